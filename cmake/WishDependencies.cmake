@@ -1,0 +1,33 @@
+# All third-party code comes from Debian 12 packages (scripts/install-deps.sh installs them).
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(OpenMP REQUIRED COMPONENTS CXX)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(Threads REQUIRED)
+find_package(PkgConfig REQUIRED)
+
+# SuiteSparse 5.x on Debian 12 ships no CMake package: find CHOLMOD by hand.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(SUITESPARSECONFIG_LIBRARY suitesparseconfig REQUIRED)
+add_library(wish::cholmod INTERFACE IMPORTED)
+target_include_directories(wish::cholmod INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(wish::cholmod INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
+
+# libsvm 3.24: header in /usr/include/libsvm.
+find_path(LIBSVM_INCLUDE_DIR svm.h PATH_SUFFIXES libsvm REQUIRED)
+find_library(LIBSVM_LIBRARY svm REQUIRED)
+add_library(wish::libsvm INTERFACE IMPORTED)
+target_include_directories(wish::libsvm INTERFACE ${LIBSVM_INCLUDE_DIR})
+target_link_libraries(wish::libsvm INTERFACE ${LIBSVM_LIBRARY})
+
+# cpp-httplib 0.11 is a compiled library with only a pkg-config file.
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+
+if(WISH_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(WISH_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,88 @@
+#pragma once
+// A trained WISH classifier (paper §6; ../shared/design/classification.md): the descriptor settings it was
+// trained with, the feature pipeline, the z-score scaler, and an RBF C-SVM (libsvm) with Platt probabilities.
+// One self-describing, versioned JSON model file holds all of it (model_file.cpp).
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/sh/sh_descriptor.hpp"
+#include "core/spherical_map/spherical_map.hpp"
+
+namespace wish {
+
+// How a descriptor must be computed for this model; a request computed differently is recomputed with
+// these settings or refused, never silently mismatched.
+struct DescriptorSettings {
+  SphericalMapOptions map;   // method, steps, tau, filter
+  ShFitOptions sh;           // lmax, regularization, weighting, solver
+  bool operator==(const DescriptorSettings&) const = default;
+};
+
+enum class FeatureFamily { Invariants, Global, Combined };
+enum class ScaleNormalization { None, ByFirstInvariant, ByArea };  // xi(l)/xi(1), or xi(l)/surface area
+
+// The raw, rotation-invariant features of one shape, before the model's feature pipeline.
+struct ShapeFeatures {
+  Eigen::VectorXd invariants;  // xi(0..Lmax)
+  Eigen::VectorXd global;      // global_shape_descriptors(mesh)
+};
+
+struct FeatureSpec {
+  FeatureFamily family = FeatureFamily::Invariants;
+  int l_min = 1, l_max = 5;                 // which xi(l) are used (inclusive)
+  ScaleNormalization scale = ScaleNormalization::None;
+  bool log_transform = false;               // log(x) of the (normalised) energies
+};
+
+struct Prediction {
+  std::string label;
+  std::vector<std::pair<std::string, double>> probabilities;  // one per class, in the model's class order
+  double margin = 0;  // decision value of the winning class against the runner-up (libsvm one-vs-one)
+};
+
+struct TrainingSummary {
+  std::string dataset_sha256;
+  std::string trained_at;          // ISO 8601 UTC
+  std::int64_t samples = 0;
+  double best_c = 0, best_gamma = 0;
+  double grid_score = 0;           // mean validation accuracy of the best grid cell
+  double test_accuracy = 0;        // stratified 20 % hold-out
+  double nested_cv_mean = 0, nested_cv_std = 0;
+  std::string notes;
+};
+
+class ClassifierModel {
+ public:
+  static constexpr int kFormatVersion = 1;
+
+  // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
+  // a truncated or edited file, or inconsistent sizes.
+  static ClassifierModel load(const std::filesystem::path& path);
+  static ClassifierModel from_json_text(const std::string& text);
+  std::string to_json_text() const;
+  void save(const std::filesystem::path& path) const;
+
+  Prediction predict(const ShapeFeatures& features) const;
+
+  const std::string& name() const;
+  const std::string& version() const;
+  const std::vector<std::string>& classes() const;
+  const DescriptorSettings& descriptor_settings() const;
+  const FeatureSpec& feature_spec() const;
+  const TrainingSummary& training_summary() const;
+  bool needs_global_features() const { return feature_spec().family != FeatureFamily::Invariants; }
+
+  struct State;  // defined in classifier_model.cpp / svm_engine.cpp
+  explicit ClassifierModel(std::shared_ptr<const State> state);
+
+ private:
+  std::shared_ptr<const State> state_;  // immutable, shared: copies are cheap and thread-safe to use
+};
+
+}  // namespace wish

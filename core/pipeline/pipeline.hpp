@@ -1,0 +1,53 @@
+#pragma once
+// The one call that turns mesh bytes into a descriptor (and a prediction): read -> validate/repair ->
+// spherical map -> SH fit -> invariants -> (classify). Used by the CLI and by the HTTP service alike.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/classify/classifier_model.hpp"
+#include "core/common/deadline.hpp"
+#include "core/io/mesh_io.hpp"
+#include "core/sh/sh_descriptor.hpp"
+#include "core/spherical_map/spherical_map.hpp"
+#include "core/validation/mesh_report.hpp"
+
+namespace wish {
+
+struct PipelineOptions {
+  ReadOptions read;
+  RepairOptions repair;
+  SphericalMapOptions map;
+  ShFitOptions sh;
+  bool compute_global_features = false;
+  int reconstruction_level = -1;   // >= 0: also evaluate the SH surface on an icosphere of this level (0..7)
+};
+
+struct StageTimings {  // seconds
+  double read = 0, validate = 0, map = 0, fit = 0, classify = 0, total = 0;
+};
+
+struct PipelineResult {
+  MeshFormat format = MeshFormat::Unknown;
+  std::vector<std::string> read_notes;
+  PreparedMesh prepared;             // reports before/after repair, repairs; prepared.mesh was mapped
+  SphericalMapResult map;
+  ShDescriptor sh;
+  ShapeFeatures features;
+  std::optional<Prediction> prediction;
+  std::optional<Mesh> reconstruction;
+  StageTimings timings;
+};
+
+// Throws WishError: InvalidInput / UnsupportedFormat / TooLarge from reading, Unmappable ("genus_nonzero",
+// ..., or "map_failed" with details.check) from validation and mapping, Timeout from the deadline.
+PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions& options,
+                                   const Deadline& deadline = {});
+PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline = {});
+
+// Describes with the model's descriptor settings (options.map / options.sh are replaced by them), then predicts.
+PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel& model, PipelineOptions options,
+                                   const Deadline& deadline = {});
+
+}  // namespace wish

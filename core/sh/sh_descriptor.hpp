@@ -1,0 +1,45 @@
+#pragma once
+// Spherical-harmonics descriptor of a mapped mesh (paper §5, ../shared/design/sh-and-invariants.md).
+// Conventions: u = (sin t cos p, sin t sin p, cos t); complex Y_l^m orthonormal with Condon-Shortley phase;
+// coefficient index j = l^2 + l + m (0-based), k = (Lmax+1)^2 coefficients per coordinate.
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/mesh/mesh.hpp"
+
+namespace wish {
+
+enum class FitWeighting { Area, Uniform };  // area: input vertex areas (default); uniform: the paper's
+enum class FitSolver { Direct, Banded };    // one LDLT solve; or the paper's residual banded scheme
+
+const char* to_string(FitWeighting weighting);
+const char* to_string(FitSolver solver);
+
+struct ShFitOptions {
+  int lmax = 15;
+  double regularization = 1e-5;   // nu, with penalty l^2 (l+1)^2 (the paper's Eq. 13 has a typo) and weights summing to 1
+  FitWeighting weighting = FitWeighting::Area;
+  FitSolver solver = FitSolver::Direct;
+  int band_size = 100;            // max coefficients per band for the banded solver
+};
+
+struct FitError {
+  double mean = 0, rms = 0, max = 0;                   // |x_i - x_L(w_i)| in input units
+  double mean_relative = 0, rms_relative = 0, max_relative = 0;  // divided by the bounding-box diagonal
+};
+
+struct ShDescriptor {
+  int lmax = 0;
+  // k by 3 complex coefficients c_l^m of x, y, z (column 0, 1, 2), row j = l^2 + l + m.
+  Eigen::Matrix<std::complex<double>, Eigen::Dynamic, 3> coefficients;
+  // Lmax+1 rotation-invariant energies xi(l) = sum_m sum_{x,y,z} |c_l^m|^2 (paper Eq. 14); xi(0) is translation-dependent.
+  Eigen::VectorXd invariants;
+  FitError fit_error;
+  ShFitOptions options;
+};
+
+}  // namespace wish

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages WISH needs, skipping those already present.
+# The one list of packages: used by the README's commands, .ci/run and docker/Dockerfile.
+#   scripts/install-deps.sh            build + run the service
+#   scripts/install-deps.sh --test     also what the tests, fuzzers and linters need
+set -euo pipefail
+
+runtime_build=(
+  build-essential cmake pkg-config git ca-certificates curl
+  libeigen3-dev libsuitesparse-dev libopenblas-dev libopenblas0-pthread
+  libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsvm-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3
+)
+test_extra=(
+  clang libclang-rt-14-dev
+  python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
+  assimp-testmodels nginx-light wrk yamllint
+)
+
+want=("${runtime_build[@]}")
+if [[ "${1:-}" == "--test" ]]; then want+=("${test_extra[@]}"); fi
+
+missing=()
+for p in "${want[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]})); then
+  echo "install-deps: installing ${missing[*]}"
+  SUDO=""; [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "install-deps: all ${#want[@]} packages present"
+fi
+
+# CHOLMOD's supernodal factorisation runs on BLAS: make OpenBLAS the system BLAS/LAPACK
+# (Debian's default libblas3 is the slow reference implementation).
+for alt in libblas.so.3-x86_64-linux-gnu liblapack.so.3-x86_64-linux-gnu; do
+  target=$(update-alternatives --list "$alt" 2>/dev/null | grep -m1 openblas-pthread || true)
+  if [[ -n "$target" ]]; then ${SUDO:-} update-alternatives --quiet --set "$alt" "$target"; fi
+done

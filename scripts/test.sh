@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs every test: the Release build with all tests (C++ and Python),
+# the ASan+UBSan build of the C++ tests (the slow data sweeps excluded), the libFuzzer targets for a bounded
+# time each, and the linters of the deployment files. Exit status non-zero on any failure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+jobs=$(nproc)
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1   # tests run in parallel: no nested threading
+fuzz_seconds=${WISH_FUZZ_SECONDS:-30}
+
+step() { printf '\n==== %s (%s)\n' "$1" "$(date -u +%H:%M:%S)"; }
+
+step "dependencies"
+bash scripts/install-deps.sh --test
+
+step "release build"
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DWISH_SANITIZE=OFF >/dev/null
+cmake --build build/release -j "$jobs"
+
+step "sanitizer build (ASan + UBSan)"
+cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DWISH_SANITIZE=ON \
+      -DWISH_BUILD_BENCH=OFF >/dev/null
+cmake --build build/asan -j "$jobs"
+
+step "libFuzzer targets"
+CC=clang CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
+      -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
+      -DWISH_BUILD_BENCH=OFF >/dev/null
+cmake --build build/fuzz -j "$jobs" --target wish_fuzzers
+for fuzzer in build/fuzz/tests/fuzz/fuzz_*; do
+  [[ -x "$fuzzer" ]] || continue
+  name=$(basename "$fuzzer")
+  corpus="build/fuzz/corpus/$name"; mkdir -p "$corpus"
+  echo "-- $name for ${fuzz_seconds}s"
+  "$fuzzer" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=0 \
+            "$corpus" "tests/fuzz/corpus/${name#fuzz_}" 2>&1 | tail -n 3
+done
+
+step "deployment linters"
+bash scripts/lint-deploy.sh
+
+step "sanitizer tests"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|python" --timeout 900
+
+step "release tests"
+ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 1200
