@@ -4,6 +4,7 @@
 // One self-describing, versioned JSON model file holds all of it (model_file.cpp).
 
 #include <filesystem>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -38,6 +39,8 @@ struct FeatureSpec {
   int l_min = 1, l_max = 5;                 // which xi(l) are used (inclusive)
   ScaleNormalization scale = ScaleNormalization::None;
   bool log_transform = false;               // log(x) of the (normalised) energies
+  bool global_scale_free = false;           // Global/Combined: only the scale-free global descriptors
+  bool operator==(const FeatureSpec&) const = default;
 };
 
 struct Prediction {
@@ -68,6 +71,9 @@ class ClassifierModel {
   std::string to_json_text() const;
   void save(const std::filesystem::path& path) const;
 
+  // Replays the feature pipeline and the scaler, then the SVM. The label is libsvm's one-vs-one vote winner
+  // (as scikit-learn's SVC.predict), which can in rare ties differ from the most probable class.
+  // Throws InvalidInputError("feature_mismatch") when `features` lack what the model needs.
   Prediction predict(const ShapeFeatures& features) const;
 
   const std::string& name() const;
@@ -76,7 +82,11 @@ class ClassifierModel {
   const DescriptorSettings& descriptor_settings() const;
   const FeatureSpec& feature_spec() const;
   const TrainingSummary& training_summary() const;
-  bool needs_global_features() const { return feature_spec().family != FeatureFamily::Invariants; }
+  // ByArea normalisation needs the mesh area, which is one of the global descriptors.
+  bool needs_global_features() const {
+    return feature_spec().family != FeatureFamily::Invariants || feature_spec().scale == ScaleNormalization::ByArea;
+  }
+  const std::string& payload_sha256() const;  // SHA-256 of the canonical payload (the file's seal)
 
   struct State;  // defined in classifier_model.cpp / svm_engine.cpp
   explicit ClassifierModel(std::shared_ptr<const State> state);

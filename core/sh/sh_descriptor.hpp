@@ -15,9 +15,18 @@ namespace wish {
 
 enum class FitWeighting { Area, Uniform };  // area: input vertex areas (default); uniform: the paper's
 enum class FitSolver { Direct, Banded };    // one LDLT solve; or the paper's residual banded scheme
+// How the k x k Gram matrix Y^T W Y is built (both exact up to rounding, see core/sh/sh_gram.hpp):
+//   Quadrature: from the degree-2*Lmax moments of the weighted points, O(n Lmax^2 + Lmax^5) (default);
+//   Product:    blocked matrix product of the n x k basis matrix, O(n k^2).
+enum class GramMethod { Quadrature, Product };
 
 const char* to_string(FitWeighting weighting);
 const char* to_string(FitSolver solver);
+const char* to_string(GramMethod method);
+// Inverses of to_string ("area" | "uniform", "direct" | "banded", "quadrature" | "product"); throw InvalidInputError.
+FitWeighting fit_weighting_from_name(const std::string& name);
+FitSolver fit_solver_from_name(const std::string& name);
+GramMethod gram_method_from_name(const std::string& name);
 
 struct ShFitOptions {
   int lmax = 15;
@@ -25,7 +34,10 @@ struct ShFitOptions {
   FitWeighting weighting = FitWeighting::Area;
   FitSolver solver = FitSolver::Direct;
   int band_size = 100;            // max coefficients per band for the banded solver
+  GramMethod gram = GramMethod::Quadrature;
 };
+
+inline constexpr int kShMaxFitLmax = 64;  // fit_spherical_harmonics refuses larger Lmax (k^2 doubles of memory)
 
 struct FitError {
   double mean = 0, rms = 0, max = 0;                   // |x_i - x_L(w_i)| in input units

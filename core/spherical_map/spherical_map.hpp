@@ -32,6 +32,9 @@ struct WillmoreOptions {
   bool filtered = false;             // low-pass filtered flow for noisy segmentation meshes
   double filter_strength = 2.0;      // sigma = filter_strength * (mean edge length)^2
   int max_inverse_iterations = 5;    // inverse power iteration for the smallest eigenvector
+  // Added: an eigen-solve whose relative residual stays above this after max_inverse_iterations rejects the step.
+  double max_eigen_residual = 1e-4;
+  double energy_increase_tolerance = 1e-3;  // reject a step raising E_W by more than this fraction
 };
 
 struct CmcfOptions {
@@ -64,6 +67,8 @@ struct MapQuality {
   double area_distortion = 0;        // exp(mean |log(area ratio)|), areas normalised to equal totals
   double roundness = 0;              // std(r)/mean(r) of the flowed surface before projection
   double mobius_centroid = 0;        // |sum w_i u_i| after Möbius balancing
+  long non_finite_vertices = 0;      // NaN/Inf sphere positions (any > 0 fails verification)
+  int mobius_iterations = 0;         // iterations of the area-centre balancing
 };
 
 // One flow step, accepted or rejected.
@@ -75,6 +80,15 @@ struct FlowStepRecord {
   double eigen_residual = 0;         // relative residual of the smallest eigenvector
   bool accepted = true;
   double seconds = 0;
+  // Added: detail of the step (Willmore flow; cMCF fills what applies).
+  double rayleigh = 0;               // gamma / mean(diag E): how far rho was from integrable (0 = exactly)
+  int inverse_iterations = 0;
+  double eigen_shift = 0;            // epsilon actually added to the Dirac matrix
+  double geometry_seconds = 0;       // normals, L, M, H, projection, Dirac assembly
+  double factor_seconds = 0;         // numeric factorisation(s) of the Dirac (or cMCF) matrix
+  double eigen_seconds = 0;          // inverse-iteration solves and residuals
+  double poisson_seconds = 0;        // divergence, pinned-Laplacian factorisation and 3-RHS solve
+  std::string note;                  // why a step was rejected, or "" when accepted
 };
 
 enum class MapStatus { Ok, NotConverged, VerificationFailed, SolverFailed };

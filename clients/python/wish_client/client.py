@@ -1,0 +1,376 @@
+"""The WISH REST client library: paths or bytes in, parsed results out.
+
+    >>> from wish_client import WishClient
+    >>> client = WishClient("http://127.0.0.1:8080")
+    >>> result = client.classify("nucleus.obj")          # one mesh -> ClassifyResult
+    >>> result.label, result.probabilities["neuron"]
+    >>> [r.label for r in client.classify(["a.obj", "b.ply"])]  # several meshes, one request -> list
+
+The wire contract is proto/openapi.json; this module depends on nothing else of the project. Errors the server
+reports raise :class:`~wish_client.errors.WishServerError` (with the server's ``code``, HTTP ``status`` and
+``request_id``); an unreachable server raises :class:`~wish_client.errors.WishConnectionError`. Transient failures
+(503 with ``Retry-After``, a proxy's 502, refused/reset connections) are retried per :class:`RetryPolicy`.
+"""
+
+from __future__ import annotations
+
+import email.utils
+import http.client
+import json
+import os
+import random
+import socket
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Union
+
+from . import __version__
+from .errors import WishConnectionError, WishInputError, WishServerError
+from .multipart import encode_multipart
+
+#: A mesh given to the client: a file path, raw bytes (named "mesh"), or an explicit ``(name, bytes)`` pair.
+#: The server recognises the format from the file name's extension and the content (OBJ, PLY, OFF, STL).
+MeshInput = Union[str, os.PathLike, bytes, tuple[str, bytes]]
+
+_FORMATS = ("obj", "ply", "off", "stl")  # the `format` hint of a raw body (proto: components/parameters/format)
+
+
+@dataclass(frozen=True)
+class RetryPolicy:
+    """When and how long to retry a request that failed transiently.
+
+    Retried: connection errors (refused, reset, timed out) and the statuses for which
+    :attr:`WishServerError.retryable` holds (503 / 502 / 429, a proxy's 504). The wait before attempt ``k`` (1-based
+    retry count) is ``min(max_delay, base_delay * 2**(k-1))`` with ±25 % jitter — unless the server sent
+    ``Retry-After``, which is honoured as given (capped at ``max_delay``).
+    """
+
+    max_attempts: int = 6          # total attempts, including the first; 1 disables retrying
+    base_delay: float = 0.5        # seconds before the first retry
+    max_delay: float = 30.0        # cap of one wait, seconds
+    jitter: float = 0.25           # relative random spread of a computed wait (not of Retry-After)
+
+    def delay(self, retry: int, retry_after: float | None = None) -> float:
+        """Seconds to wait before retry number ``retry`` (1-based)."""
+        if retry_after is not None:
+            return max(0.0, min(self.max_delay, retry_after))
+        base = min(self.max_delay, self.base_delay * 2 ** (retry - 1))
+        return max(0.0, base * (1 + random.uniform(-self.jitter, self.jitter)))
+
+
+NO_RETRY = RetryPolicy(max_attempts=1)
+
+
+@dataclass
+class ClassifyResult:
+    """The classification of one mesh.
+
+    Attributes:
+        name: the mesh's name as sent (file name).
+        label: the predicted class.
+        probabilities: class -> Platt probability, in the model's class order.
+        margin: decision value of the winner against the runner-up (libsvm one-vs-one); larger = more confident.
+        model: name of the model that answered (``name@version`` when the server reports a version).
+        request_id: the server's id of the request that produced this result.
+        raw: the result object exactly as received (descriptor, timings, warnings, ...).
+    """
+
+    name: str
+    label: str
+    probabilities: dict[str, float] = field(default_factory=dict)
+    margin: float | None = None
+    model: str | None = None
+    request_id: str | None = None
+    raw: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def confidence(self) -> float | None:
+        """Probability of the predicted label, when reported."""
+        return self.probabilities.get(self.label)
+
+
+@dataclass
+class DescribeResult:
+    """Rotation-invariant descriptor of one mesh.
+
+    Attributes:
+        name: the mesh's name as sent.
+        invariants: ξ(0..Lmax), the SH energies summed over x, y, z (paper Eq. 14).
+        lmax: the SH degree used.
+        raw: the result object as received (coefficients, fit error, map diagnostics, ...).
+    """
+
+    name: str
+    invariants: list[float]
+    lmax: int | None = None
+    request_id: str | None = None
+    raw: dict[str, Any] = field(default_factory=dict)
+
+
+def _parse_retry_after(value: str | None) -> float | None:
+    """Parses ``Retry-After`` (delta-seconds or an HTTP-date, RFC 9110 §10.2.3) to seconds from now."""
+    if not value:
+        return None
+    value = value.strip()
+    try:
+        return max(0.0, float(value))
+    except ValueError:
+        pass
+    try:
+        when = email.utils.parsedate_to_datetime(value)
+    except (TypeError, ValueError):
+        return None
+    return max(0.0, when.timestamp() - time.time())
+
+
+def _error_from_response(status: int, headers: Any, body: bytes) -> WishServerError:
+    """Builds the exception for an error response, from the documented JSON body when there is one."""
+    retry_after = _parse_retry_after(headers.get("Retry-After") if headers else None)
+    header_rid = headers.get("X-Request-Id") if headers else None
+    try:
+        doc = json.loads(body.decode("utf-8"))
+        err = doc["error"]
+        return WishServerError(status, str(err.get("code") or f"http_{status}"), str(err.get("message", "")),
+                               err.get("details") or {}, doc.get("request_id") or header_rid, retry_after)
+    except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError):
+        text = body.decode("utf-8", "replace").strip().replace("\n", " ")
+        return WishServerError(status, f"http_{status}", text[:300] or http.client.responses.get(status, ""),
+                               {}, header_rid, retry_after)
+
+
+def _mesh_name_and_bytes(mesh: MeshInput) -> tuple[str, bytes]:
+    """Reads a :data:`MeshInput` into ``(name, content)``; raises :class:`WishInputError` for a missing file."""
+    if isinstance(mesh, (bytes, bytearray, memoryview)):
+        return "mesh", bytes(mesh)
+    if isinstance(mesh, tuple):
+        name, content = mesh
+        return str(name), bytes(content)
+    path = Path(mesh)
+    try:
+        return path.name, path.read_bytes()
+    except OSError as e:
+        raise WishInputError(f"cannot read mesh {path}: {e.strerror or e}") from e
+
+
+def _as_float_map(value: Any) -> dict[str, float]:
+    """Accepts ``{"cls": p}`` or ``[{"class"|"label": cls, "probability": p}, ...]`` and returns ``{cls: p}``."""
+    if isinstance(value, dict):
+        return {str(k): float(v) for k, v in value.items()}
+    out: dict[str, float] = {}
+    for item in value or []:
+        if isinstance(item, dict):
+            key = item.get("class", item.get("label", item.get("name")))
+            out[str(key)] = float(item.get("probability", item.get("p", 0.0)))
+        elif isinstance(item, (list, tuple)) and len(item) == 2:
+            out[str(item[0])] = float(item[1])
+    return out
+
+
+def _model_label(model: Any) -> str | None:
+    if isinstance(model, dict):
+        name, version = model.get("name"), model.get("version")
+        return f"{name}@{version}" if name and version else (name or None)
+    return None if model is None else str(model)
+
+
+class WishClient:
+    """A client of one WISH server (or of a load balancer in front of several).
+
+    Thread-safe: every call opens its own connection, so one client may be shared by a thread pool.
+
+    Args:
+        server: base URL, e.g. ``http://127.0.0.1:8080`` (a trailing ``/`` is ignored).
+        timeout: socket timeout of one attempt, seconds. Classifying a large mesh takes seconds; keep it generous.
+        retry: transient-failure policy; :data:`NO_RETRY` disables retrying.
+        on_retry: called ``(attempt, delay_seconds, exception)`` before each wait — for logging / progress.
+        token: bearer token, when the server runs with ``--auth-token`` (default: ``$WISH_AUTH_TOKEN``).
+    """
+
+    def __init__(self, server: str, *, timeout: float = 300.0, retry: RetryPolicy | None = None,
+                 on_retry: Callable[[int, float, Exception], None] | None = None,
+                 token: str | None = None) -> None:
+        if not server.startswith(("http://", "https://")):
+            server = "http://" + server
+        self.server = server.rstrip("/")
+        self.timeout = timeout
+        self.retry = retry or RetryPolicy()
+        self.on_retry = on_retry
+        self.user_agent = f"wish-client/{__version__}"
+        self.token = token if token is not None else os.environ.get("WISH_AUTH_TOKEN") or None
+
+    # ---- transport ---------------------------------------------------------------------------------------------
+
+    def request(self, method: str, path: str, body: bytes | None = None, content_type: str | None = None,
+                query: dict[str, Any] | None = None, accept: str = "application/json") -> tuple[int, Any, bytes]:
+        """Sends one request with retries; returns ``(status, headers, body)`` of a 2xx answer.
+
+        Raises:
+            WishServerError: a non-2xx answer that is not retryable, or still failing after the last attempt.
+            WishConnectionError: the server stayed unreachable through every attempt.
+        """
+        url = self.server + path
+        if query:
+            pairs = {k: (str(v).lower() if isinstance(v, bool) else v) for k, v in query.items() if v is not None}
+            if pairs:
+                url += "?" + urllib.parse.urlencode(pairs)
+        headers = {"User-Agent": self.user_agent, "Accept": accept}
+        if content_type:
+            headers["Content-Type"] = content_type
+        if self.token:
+            headers["Authorization"] = f"Bearer {self.token}"
+        attempt = 0
+        while True:
+            attempt += 1
+            try:
+                req = urllib.request.Request(url, data=body, method=method, headers=headers)
+                with urllib.request.urlopen(req, timeout=self.timeout) as resp:
+                    return resp.status, resp.headers, resp.read()
+            except urllib.error.HTTPError as e:
+                err: Exception = _error_from_response(e.code, e.headers, e.read() if e.fp else b"")
+                retryable = err.retryable  # type: ignore[attr-defined]
+                retry_after = err.retry_after  # type: ignore[attr-defined]
+            except (urllib.error.URLError, http.client.HTTPException, ConnectionError, socket.timeout,
+                    TimeoutError) as e:
+                reason = getattr(e, "reason", e)
+                err = WishConnectionError(f"{method} {url}: {reason}")
+                retryable, retry_after = True, None
+            if not retryable or attempt >= self.retry.max_attempts:
+                raise err
+            delay = self.retry.delay(attempt, retry_after)
+            if self.on_retry:
+                self.on_retry(attempt, delay, err)
+            time.sleep(delay)
+
+    def _json(self, method: str, path: str, **kwargs: Any) -> Any:
+        _, _, data = self.request(method, path, **kwargs)
+        try:
+            return json.loads(data.decode("utf-8"))
+        except (ValueError, UnicodeDecodeError) as e:
+            raise WishServerError(200, "bad_response", f"{method} {path}: the answer is not JSON ({e})") from e
+
+    def _post_meshes(self, path: str, meshes: MeshInput | Sequence[MeshInput], params: dict[str, Any]
+                     ) -> tuple[bool, list[tuple[str, dict[str, Any] | WishServerError]]]:
+        """Sends one mesh as the raw body, or several as multipart parts.
+
+        Returns ``(single, [(name, result_object | per-part error), ...])``.
+        """
+        single = not isinstance(meshes, list | tuple) or _is_named_bytes(meshes)
+        items: list[MeshInput] = [meshes] if single else list(meshes)  # type: ignore[list-item]
+        parts = [_mesh_name_and_bytes(m) for m in items]
+        if not parts:
+            raise WishInputError("no mesh given")
+        if single:
+            name, content = parts[0]
+            fmt = Path(name).suffix.lower().lstrip(".")
+            query = {**params, "format": params.get("format") or (fmt if fmt in _FORMATS else None)}
+            doc = self._json("POST", path, body=content, content_type="application/octet-stream", query=query)
+            return True, [(name, doc)]
+        body, ctype = encode_multipart([("mesh", name, content) for name, content in parts])
+        doc = self._json("POST", path, body=body, content_type=ctype, query=params)
+        out: list[tuple[str, dict[str, Any] | WishServerError]] = []
+        for (name, _), item in zip(parts, doc.get("results", [])):
+            if "error" in item:
+                err = item["error"]
+                out.append((name, WishServerError(int(item.get("status", 422)), str(err.get("code", "error")),
+                                                  str(err.get("message", "")), err.get("details") or {},
+                                                  doc.get("request_id"))))
+            else:
+                out.append((item.get("filename", name), item.get("result", {})))
+        return False, out
+
+    # ---- endpoints ---------------------------------------------------------------------------------------------
+
+    def classify(self, meshes: MeshInput | Sequence[MeshInput], *, model: str | None = None, **params: Any
+                 ) -> ClassifyResult | list[ClassifyResult | WishServerError]:
+        """Classifies one mesh, or several in one multipart request.
+
+        Args:
+            meshes: a path / bytes / ``(name, bytes)`` — sent as the raw body, returns a :class:`ClassifyResult`
+                (an error raises :class:`WishServerError`) — or a list of them — sent as multipart parts, returns
+                one entry per mesh, in order: a :class:`ClassifyResult`, or the :class:`WishServerError` of that
+                part alone (one bad file does not fail the others).
+            model: model name (``GET /v1/models``); the server's default model when ``None``.
+            params: further query parameters of ``POST /v1/classify`` (``include``, ...; proto/openapi.json).
+        """
+        single, items = self._post_meshes("/v1/classify", meshes, {"model": model, **params})
+        results = [r if isinstance(r, WishServerError) else _parse_classify(name, r) for name, r in items]
+        return results[0] if single else results  # type: ignore[return-value]
+
+    def describe(self, meshes: MeshInput | Sequence[MeshInput], **params: Any
+                 ) -> DescribeResult | list[DescribeResult | WishServerError]:
+        """Spherical map + SH descriptor ξ(0..Lmax) of one mesh or several (``POST /v1/describe``).
+
+        Same calling convention as :meth:`classify`; ``params`` e.g. ``lmax=15, method="willmore", steps=10``.
+        """
+        single, items = self._post_meshes("/v1/describe", meshes, params)
+        results = [r if isinstance(r, WishServerError) else _parse_describe(name, r) for name, r in items]
+        return results[0] if single else results  # type: ignore[return-value]
+
+    def models(self) -> list[dict[str, Any]]:
+        """The loaded models (``GET /v1/models``), each a dict with at least ``name``."""
+        doc = self._json("GET", "/v1/models")
+        return list(doc.get("models", doc) if isinstance(doc, dict) else doc)
+
+    def model(self, name: str) -> dict[str, Any]:
+        """One model's metadata: classes, descriptor settings, training summary (``GET /v1/models/{name}``)."""
+        return self._json("GET", "/v1/models/" + urllib.parse.quote(name, safe=""))
+
+    def health(self) -> dict[str, Any]:
+        """Liveness (``GET /healthz``); raises when the process does not answer."""
+        return self._json("GET", "/healthz")
+
+    def ready(self) -> bool:
+        """Readiness (``GET /readyz``): True when the server accepts work; False on 503 (loading / draining)."""
+        try:
+            self.request("GET", "/readyz")
+            return True
+        except WishServerError as e:
+            if e.status == 503:
+                return False
+            raise
+
+    def metrics(self) -> str:
+        """The Prometheus text exposition (``GET /metrics``)."""
+        return self.request("GET", "/metrics", accept="text/plain")[2].decode("utf-8")
+
+    def openapi(self) -> dict[str, Any]:
+        """The server's OpenAPI document (``GET /openapi.json``)."""
+        return self._json("GET", "/openapi.json")
+
+
+def _is_named_bytes(value: Any) -> bool:
+    return isinstance(value, tuple) and len(value) == 2 and isinstance(value[1], (bytes, bytearray))
+
+
+def _parse_classify(name: str, doc: dict[str, Any]) -> ClassifyResult:
+    """A ClassifyResult (proto: DescribeResult with ``prediction``) to the library's dataclass."""
+    pred = doc.get("prediction")
+    if not isinstance(pred, dict):
+        raise WishServerError(200, "bad_response", "the answer has no `prediction` block", {},
+                              doc.get("request_id"))
+    return ClassifyResult(
+        name=str(doc.get("mesh", {}).get("filename") or name),
+        label=str(pred.get("label", "")),
+        probabilities=_as_float_map(pred.get("probabilities", [])),
+        margin=float(pred["margin"]) if pred.get("margin") is not None else None,
+        model=_model_label(pred.get("model")),
+        request_id=doc.get("request_id"),
+        raw=doc,
+    )
+
+
+def _parse_describe(name: str, doc: dict[str, Any]) -> DescribeResult:
+    """A DescribeResult (proto) to the library's dataclass."""
+    desc = doc.get("descriptor", {})
+    return DescribeResult(
+        name=str(doc.get("mesh", {}).get("filename") or name),
+        invariants=[float(x) for x in desc.get("invariants", [])],
+        lmax=desc.get("lmax"),
+        request_id=doc.get("request_id"),
+        raw=doc,
+    )

@@ -1,0 +1,348 @@
+// The model file (classification.md "The model on disk"): one versioned, self-describing JSON document
+//   { "format": "wish-classifier", "format_version": 1, "payload": {...}, "payload_sha256": "<hex>" }
+// The payload holds the classes, descriptor settings (Lmax, nu, weighting, spherical-map method and
+// parameters), the feature pipeline, the scaler, the SVM (parameters, support vectors, coefficients, rho,
+// probA/probB) and the training summary. The seal is the SHA-256 of payload.dump() — nlohmann::json sorts keys
+// and prints doubles in their shortest round-trip form, so the dump is canonical and survives a parse.
+// A converter that edits a model on purpose (clients/) recomputes the seal the same way.
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/classify/classifier_model.hpp"
+#include "core/classify/classifier_state.hpp"
+#include "core/classify/feature_pipeline.hpp"
+#include "core/classify/sha256.hpp"
+#include "core/common/errors.hpp"
+
+namespace wish {
+namespace {
+
+using nlohmann::json;
+constexpr const char* kFormatName = "wish-classifier";
+
+[[noreturn]] void invalid(const std::string& message) {
+  throw InvalidInputError("model_invalid", "invalid model file: " + message);
+}
+
+// ---- enum names (kept local so classify does not depend on the other areas' implementations) ----
+const char* map_method_name(MapMethod m) { return m == MapMethod::Cmcf ? "cmcf" : "willmore"; }
+const char* solver_name(LinearSolverKind s) { return s == LinearSolverKind::EigenSimplicial ? "eigen_simplicial" : "cholmod"; }
+const char* weighting_name(FitWeighting w) { return w == FitWeighting::Uniform ? "uniform" : "area"; }
+const char* fit_solver_name(FitSolver s) { return s == FitSolver::Banded ? "banded" : "direct"; }
+
+// ---- strict readers: every field required, with its path in the message ----
+const json& field(const json& j, const std::string& key, const std::string& where) {
+  if (!j.is_object()) invalid(where + " is not an object");
+  auto it = j.find(key);
+  if (it == j.end()) invalid("missing field " + where + "." + key);
+  return *it;
+}
+double num(const json& j, const std::string& key, const std::string& where) {
+  const json& v = field(j, key, where);
+  if (!v.is_number()) invalid(where + "." + key + " is not a number");
+  return v.get<double>();
+}
+std::int64_t integer(const json& j, const std::string& key, const std::string& where) {
+  const json& v = field(j, key, where);
+  if (!v.is_number_integer()) invalid(where + "." + key + " is not an integer");
+  return v.get<std::int64_t>();
+}
+bool boolean(const json& j, const std::string& key, const std::string& where) {
+  const json& v = field(j, key, where);
+  if (!v.is_boolean()) invalid(where + "." + key + " is not true/false");
+  return v.get<bool>();
+}
+std::string str(const json& j, const std::string& key, const std::string& where) {
+  const json& v = field(j, key, where);
+  if (!v.is_string()) invalid(where + "." + key + " is not a string");
+  return v.get<std::string>();
+}
+std::vector<double> numbers(const json& v, const std::string& where) {
+  if (!v.is_array()) invalid(where + " is not an array");
+  std::vector<double> out;
+  out.reserve(v.size());
+  for (const auto& x : v) {
+    if (!x.is_number()) invalid(where + " contains a non-number");
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+std::vector<int> ints(const json& v, const std::string& where) {
+  if (!v.is_array()) invalid(where + " is not an array");
+  std::vector<int> out;
+  for (const auto& x : v) {
+    if (!x.is_number_integer()) invalid(where + " contains a non-integer");
+    out.push_back(x.get<int>());
+  }
+  return out;
+}
+Eigen::MatrixXd matrix(const json& v, Eigen::Index cols, const std::string& where) {
+  if (!v.is_array()) invalid(where + " is not an array of rows");
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(v.size()), cols);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::vector<double> row = numbers(v[i], where + "[" + std::to_string(i) + "]");
+    if (static_cast<Eigen::Index>(row.size()) != cols)
+      invalid(where + "[" + std::to_string(i) + "] has " + std::to_string(row.size()) + " entries, expected " +
+              std::to_string(cols));
+    for (Eigen::Index c = 0; c < cols; ++c) m(static_cast<Eigen::Index>(i), c) = row[c];
+  }
+  return m;
+}
+json to_array(const Eigen::VectorXd& v) { return json(std::vector<double>(v.data(), v.data() + v.size())); }
+json rows(const Eigen::MatrixXd& m) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) out.push_back(to_array(m.row(i).transpose()));
+  return out;
+}
+
+json descriptor_to_json(const DescriptorSettings& d) {
+  const auto& w = d.map.willmore;
+  const auto& c = d.map.cmcf;
+  return {{"map",
+           {{"method", map_method_name(d.map.method)},
+            {"willmore",
+             {{"tau", w.tau}, {"max_steps", w.max_steps}, {"roundness_tolerance", w.roundness_tolerance},
+              {"energy_tolerance", w.energy_tolerance}, {"min_tau", w.min_tau}, {"filtered", w.filtered},
+              {"filter_strength", w.filter_strength}, {"max_inverse_iterations", w.max_inverse_iterations}}},
+            {"cmcf", {{"delta", c.delta}, {"max_steps", c.max_steps}, {"roundness_tolerance", c.roundness_tolerance}}},
+            {"solver", solver_name(d.map.solver)},
+            {"fallback", d.map.fallback},
+            {"verification",
+             {{"degenerate_area", d.map.verification.degenerate_area},
+              {"max_conformal_p99", d.map.verification.max_conformal_p99}}}}},
+          {"sh",
+           {{"lmax", d.sh.lmax}, {"regularization", d.sh.regularization}, {"weighting", weighting_name(d.sh.weighting)},
+            {"solver", fit_solver_name(d.sh.solver)}, {"band_size", d.sh.band_size}}}};
+}
+
+DescriptorSettings descriptor_from_json(const json& j) {
+  DescriptorSettings d;
+  const json& m = field(j, "map", "descriptor");
+  const std::string method = str(m, "method", "descriptor.map");
+  if (method != "willmore" && method != "cmcf") invalid("descriptor.map.method '" + method + "' is unknown");
+  d.map.method = method == "cmcf" ? MapMethod::Cmcf : MapMethod::Willmore;
+  const json& w = field(m, "willmore", "descriptor.map");
+  const std::string wp = "descriptor.map.willmore";
+  d.map.willmore.tau = num(w, "tau", wp);
+  d.map.willmore.max_steps = static_cast<int>(integer(w, "max_steps", wp));
+  d.map.willmore.roundness_tolerance = num(w, "roundness_tolerance", wp);
+  d.map.willmore.energy_tolerance = num(w, "energy_tolerance", wp);
+  d.map.willmore.min_tau = num(w, "min_tau", wp);
+  d.map.willmore.filtered = boolean(w, "filtered", wp);
+  d.map.willmore.filter_strength = num(w, "filter_strength", wp);
+  d.map.willmore.max_inverse_iterations = static_cast<int>(integer(w, "max_inverse_iterations", wp));
+  const json& c = field(m, "cmcf", "descriptor.map");
+  d.map.cmcf.delta = num(c, "delta", "descriptor.map.cmcf");
+  d.map.cmcf.max_steps = static_cast<int>(integer(c, "max_steps", "descriptor.map.cmcf"));
+  d.map.cmcf.roundness_tolerance = num(c, "roundness_tolerance", "descriptor.map.cmcf");
+  const std::string solver = str(m, "solver", "descriptor.map");
+  if (solver != "cholmod" && solver != "eigen_simplicial") invalid("descriptor.map.solver '" + solver + "' is unknown");
+  d.map.solver = solver == "cholmod" ? LinearSolverKind::Cholmod : LinearSolverKind::EigenSimplicial;
+  d.map.fallback = boolean(m, "fallback", "descriptor.map");
+  const json& v = field(m, "verification", "descriptor.map");
+  d.map.verification.degenerate_area = num(v, "degenerate_area", "descriptor.map.verification");
+  d.map.verification.max_conformal_p99 = num(v, "max_conformal_p99", "descriptor.map.verification");
+  const json& s = field(j, "sh", "descriptor");
+  d.sh.lmax = static_cast<int>(integer(s, "lmax", "descriptor.sh"));
+  d.sh.regularization = num(s, "regularization", "descriptor.sh");
+  const std::string weighting = str(s, "weighting", "descriptor.sh");
+  if (weighting != "area" && weighting != "uniform") invalid("descriptor.sh.weighting '" + weighting + "' is unknown");
+  d.sh.weighting = weighting == "uniform" ? FitWeighting::Uniform : FitWeighting::Area;
+  const std::string fs = str(s, "solver", "descriptor.sh");
+  if (fs != "direct" && fs != "banded") invalid("descriptor.sh.solver '" + fs + "' is unknown");
+  d.sh.solver = fs == "banded" ? FitSolver::Banded : FitSolver::Direct;
+  d.sh.band_size = static_cast<int>(integer(s, "band_size", "descriptor.sh"));
+  if (d.sh.lmax < 0 || d.sh.lmax > 100) invalid("descriptor.sh.lmax " + std::to_string(d.sh.lmax) + " is out of range");
+  return d;
+}
+
+json payload_of(const ClassifierModel::State& s) {
+  const SvmModelData& svm = s.svm.data();
+  const TrainingSummary& t = s.summary;
+  return {{"name", s.name},
+          {"version", s.version},
+          {"classes", s.classes},
+          {"descriptor", descriptor_to_json(s.descriptor)},
+          {"features",
+           {{"family", to_string(s.spec.family)}, {"l_min", s.spec.l_min}, {"l_max", s.spec.l_max},
+            {"scale", to_string(s.spec.scale)}, {"log", s.spec.log_transform},
+            {"global_scale_free", s.spec.global_scale_free}, {"names", feature_names(s.spec)}}},
+          {"scaler", {{"mean", to_array(s.scaler.mean)}, {"scale", to_array(s.scaler.scale)}}},
+          {"svm",
+           {{"type", "c_svc"}, {"kernel", "rbf"}, {"C", svm.C}, {"gamma", svm.gamma}, {"n_features", svm.n_features},
+            {"n_classes", svm.n_classes}, {"labels", svm.labels}, {"n_sv", svm.n_sv},
+            {"support_vectors", rows(svm.support_vectors)}, {"sv_coef", rows(svm.sv_coef)}, {"rho", svm.rho},
+            {"prob_a", svm.prob_a}, {"prob_b", svm.prob_b}}},
+          {"training",
+           {{"dataset_sha256", t.dataset_sha256}, {"trained_at", t.trained_at}, {"samples", t.samples},
+            {"best_c", t.best_c}, {"best_gamma", t.best_gamma}, {"grid_score", t.grid_score},
+            {"test_accuracy", t.test_accuracy}, {"nested_cv_mean", t.nested_cv_mean},
+            {"nested_cv_std", t.nested_cv_std}, {"notes", t.notes}}}};
+}
+
+std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
+  if (!p.is_object()) invalid("payload is not an object");
+  // SVM first: the State owns it by value.
+  const json& sj = field(p, "svm", "payload");
+  if (str(sj, "type", "svm") != "c_svc" || str(sj, "kernel", "svm") != "rbf")
+    invalid("only an RBF C-SVM is supported (svm.type c_svc, svm.kernel rbf)");
+  SvmModelData svm;
+  svm.C = num(sj, "C", "svm");
+  svm.gamma = num(sj, "gamma", "svm");
+  svm.n_features = static_cast<int>(integer(sj, "n_features", "svm"));
+  svm.n_classes = static_cast<int>(integer(sj, "n_classes", "svm"));
+  if (svm.n_features < 1 || svm.n_features > 100000 || svm.n_classes < 2 || svm.n_classes > 10000)
+    invalid("svm.n_features / svm.n_classes out of range");
+  svm.labels = ints(field(sj, "labels", "svm"), "svm.labels");
+  svm.n_sv = ints(field(sj, "n_sv", "svm"), "svm.n_sv");
+  svm.support_vectors = matrix(field(sj, "support_vectors", "svm"), svm.n_features, "svm.support_vectors");
+  const json& coef = field(sj, "sv_coef", "svm");
+  svm.sv_coef = matrix(coef, svm.support_vectors.rows(), "svm.sv_coef");
+  svm.rho = numbers(field(sj, "rho", "svm"), "svm.rho");
+  svm.prob_a = numbers(field(sj, "prob_a", "svm"), "svm.prob_a");
+  svm.prob_b = numbers(field(sj, "prob_b", "svm"), "svm.prob_b");
+  auto s = std::make_shared<ClassifierModel::State>(SvmEngine(std::move(svm)));
+
+  s->name = str(p, "name", "payload");
+  s->version = str(p, "version", "payload");
+  const json& classes = field(p, "classes", "payload");
+  if (!classes.is_array()) invalid("payload.classes is not an array");
+  for (const auto& c : classes) {
+    if (!c.is_string()) invalid("payload.classes contains a non-string");
+    s->classes.push_back(c.get<std::string>());
+  }
+  s->descriptor = descriptor_from_json(field(p, "descriptor", "payload"));
+  const json& f = field(p, "features", "payload");
+  try {
+    s->spec.family = feature_family_from_name(str(f, "family", "features"));
+    s->spec.scale = scale_normalization_from_name(str(f, "scale", "features"));
+  } catch (const InvalidInputError& e) {
+    invalid(e.what());
+  }
+  s->spec.l_min = static_cast<int>(integer(f, "l_min", "features"));
+  s->spec.l_max = static_cast<int>(integer(f, "l_max", "features"));
+  s->spec.log_transform = boolean(f, "log", "features");
+  s->spec.global_scale_free = boolean(f, "global_scale_free", "features");
+  const json& names = field(f, "names", "features");
+  if (names != json(feature_names(s->spec)))
+    invalid("features.names do not match the feature pipeline (" + names.dump() + ")");
+  const json& sc = field(p, "scaler", "payload");
+  const std::vector<double> mean = numbers(field(sc, "mean", "scaler"), "scaler.mean");
+  const std::vector<double> scale = numbers(field(sc, "scale", "scaler"), "scaler.scale");
+  s->scaler.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
+  s->scaler.scale = Eigen::Map<const Eigen::VectorXd>(scale.data(), static_cast<Eigen::Index>(scale.size()));
+  const json& t = field(p, "training", "payload");
+  s->summary.dataset_sha256 = str(t, "dataset_sha256", "training");
+  s->summary.trained_at = str(t, "trained_at", "training");
+  s->summary.samples = integer(t, "samples", "training");
+  s->summary.best_c = num(t, "best_c", "training");
+  s->summary.best_gamma = num(t, "best_gamma", "training");
+  s->summary.grid_score = num(t, "grid_score", "training");
+  s->summary.test_accuracy = num(t, "test_accuracy", "training");
+  s->summary.nested_cv_mean = num(t, "nested_cv_mean", "training");
+  s->summary.nested_cv_std = num(t, "nested_cv_std", "training");
+  s->summary.notes = str(t, "notes", "training");
+  return s;
+}
+
+json document_of(const ClassifierModel::State& s) {
+  json payload = payload_of(s);
+  const std::string seal = Sha256::hex(payload.dump());
+  return {{"format", kFormatName}, {"format_version", ClassifierModel::kFormatVersion}, {"payload", std::move(payload)},
+          {"payload_sha256", seal}};
+}
+
+}  // namespace
+
+std::shared_ptr<const ClassifierModel::State> finalize_state(std::shared_ptr<ClassifierModel::State> s) {
+  const int k = s->svm.data().n_classes;
+  if (static_cast<int>(s->classes.size()) != k)
+    invalid(std::to_string(s->classes.size()) + " class names for an SVM with " + std::to_string(k) + " classes");
+  for (std::size_t i = 0; i < s->classes.size(); ++i) {
+    if (s->classes[i].empty()) invalid("empty class name");
+    for (std::size_t j = 0; j < i; ++j)
+      if (s->classes[i] == s->classes[j]) invalid("duplicate class name '" + s->classes[i] + "'");
+  }
+  try {
+    validate_feature_spec(s->spec);
+  } catch (const InvalidInputError& e) {
+    invalid(e.what());
+  }
+  if (s->spec.family != FeatureFamily::Global && s->spec.l_max > s->descriptor.sh.lmax)
+    invalid("features use xi(" + std::to_string(s->spec.l_max) + ") but descriptor.sh.lmax is " +
+            std::to_string(s->descriptor.sh.lmax));
+  const auto d = static_cast<Eigen::Index>(feature_names(s->spec).size());
+  if (s->scaler.mean.size() != d || s->scaler.scale.size() != d)
+    invalid("the scaler has " + std::to_string(s->scaler.mean.size()) + "/" + std::to_string(s->scaler.scale.size()) +
+            " entries for " + std::to_string(d) + " features");
+  if (s->svm.data().n_features != d)
+    invalid("the SVM has " + std::to_string(s->svm.data().n_features) + " features, the pipeline makes " +
+            std::to_string(d));
+  if (!s->scaler.mean.allFinite() || !s->scaler.scale.allFinite() || !(s->scaler.scale.array() > 0).all())
+    invalid("the scaler has non-finite or non-positive entries");
+  s->payload_sha256 = Sha256::hex(payload_of(*s).dump());
+  return s;
+}
+
+std::string ClassifierModel::to_json_text() const { return document_of(*state_).dump(1) + "\n"; }
+
+void ClassifierModel::save(const std::filesystem::path& path) const {
+  const std::string text = to_json_text();
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InvalidInputError("io_error", "cannot write the model file " + tmp.string());
+    out << text;
+    if (!out.flush()) throw InvalidInputError("io_error", "cannot write the model file " + tmp.string());
+  }
+  std::filesystem::rename(tmp, path);  // never leave a half-written model under the real name
+}
+
+ClassifierModel ClassifierModel::load(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInputError("model_invalid", "cannot open the model file " + path.string());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  try {
+    return from_json_text(ss.str());
+  } catch (const InvalidInputError& e) {
+    throw InvalidInputError(e.code(), path.string() + ": " + e.what(), e.details());
+  }
+}
+
+ClassifierModel ClassifierModel::from_json_text(const std::string& text) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    invalid(std::string("not valid JSON (truncated or corrupted?): ") + e.what());
+  }
+  if (!doc.is_object() || !doc.contains("format") || doc["format"] != kFormatName)
+    invalid("not a WISH classifier (\"format\" must be \"" + std::string(kFormatName) + "\")");
+  if (!doc.contains("format_version") || !doc["format_version"].is_number_integer())
+    invalid("missing format_version");
+  const auto version = doc["format_version"].get<std::int64_t>();
+  if (version != kFormatVersion)
+    throw InvalidInputError("model_version",
+                            "model file format version " + std::to_string(version) + " is not supported (this build reads version " +
+                                std::to_string(kFormatVersion) + ")",
+                            {{"version", version}, {"supported", std::int64_t{kFormatVersion}}});
+  const json& payload = field(doc, "payload", "document");
+  const std::string seal = str(doc, "payload_sha256", "document");
+  const std::string actual = Sha256::hex(payload.dump());
+  if (seal != actual)
+    invalid("payload_sha256 does not match the content: the file was edited or corrupted (stored " + seal.substr(0, 16) +
+            "..., computed " + actual.substr(0, 16) + "...)");
+  try {
+    return ClassifierModel(finalize_state(state_from_payload(payload)));
+  } catch (const InvalidInputError& e) {
+    if (e.code() == "model_invalid" || e.code() == "model_version") throw;
+    invalid(e.what());
+  } catch (const nlohmann::json::exception& e) {
+    invalid(e.what());
+  }
+}
+
+}  // namespace wish

@@ -1,0 +1,230 @@
+#include "core/classify/training.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <map>
+#include <set>
+
+#include "core/classify/classifier_state.hpp"
+#include "core/classify/feature_pipeline.hpp"
+#include "core/classify/sha256.hpp"
+#include "core/classify/standard_scaler.hpp"
+#include "core/classify/svm_engine.hpp"
+#include "core/common/errors.hpp"
+
+namespace wish {
+namespace {
+
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), X.cols());
+  for (std::size_t i = 0; i < idx.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = X.row(idx[i]);
+  return out;
+}
+std::vector<int> pick(const std::vector<int>& v, const std::vector<int>& idx) {
+  std::vector<int> out;
+  for (int i : idx) out.push_back(v[i]);
+  return out;
+}
+
+std::string iso_now(const std::string& fixed) {
+  if (!fixed.empty()) return fixed;
+  std::time_t t = std::time(nullptr);
+  if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH")) t = static_cast<std::time_t>(std::strtoll(epoch, nullptr, 10));
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// Grid search on (X_train, y_train) with the paper's StratifiedShuffleSplit; returns (C, gamma, score).
+GridSearchResult search(const Eigen::MatrixXd& Xs, const std::vector<int>& y, int n_splits, double fraction,
+                        std::uint64_t seed, const GridSearchOptions& grid) {
+  const auto splits = stratified_shuffle_split(y, n_splits, fraction, seed);
+  return grid_search(Xs, y, splits, grid);
+}
+
+}  // namespace
+
+std::string dataset_sha256(const std::vector<TrainingSample>& samples) {
+  Sha256 sha;
+  char buf[40];
+  for (const auto& s : samples) {
+    sha.update(s.label);
+    sha.update("|");
+    for (Eigen::Index i = 0; i < s.features.invariants.size(); ++i) {
+      std::snprintf(buf, sizeof buf, "%.17g,", s.features.invariants(i));
+      sha.update(buf);
+    }
+    sha.update("|");
+    for (Eigen::Index i = 0; i < s.features.global.size(); ++i) {
+      std::snprintf(buf, sizeof buf, "%.17g,", s.features.global(i));
+      sha.update(buf);
+    }
+    sha.update("\n");
+  }
+  static const char* digits = "0123456789abcdef";
+  std::string hex;
+  for (auto b : sha.finish()) {
+    hex += digits[b >> 4];
+    hex += digits[b & 15];
+  }
+  return hex;
+}
+
+void build_feature_matrix(const std::vector<TrainingSample>& samples, const FeatureSpec& spec, Eigen::MatrixXd& X,
+                          std::vector<int>& y, std::vector<std::string>& classes) {
+  std::set<std::string> names;
+  for (const auto& s : samples) names.insert(s.label);
+  classes.assign(names.begin(), names.end());
+  const auto d = static_cast<Eigen::Index>(feature_names(spec).size());
+  X.resize(static_cast<Eigen::Index>(samples.size()), d);
+  y.clear();
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    try {
+      X.row(static_cast<Eigen::Index>(i)) = apply_feature_pipeline(samples[i].features, spec).transpose();
+    } catch (const InvalidInputError& e) {
+      throw InvalidInputError("training_data", "sample '" + samples[i].id + "': " + e.what());
+    }
+    y.push_back(static_cast<int>(std::lower_bound(classes.begin(), classes.end(), samples[i].label) - classes.begin()));
+  }
+}
+
+TrainingResult train_classifier(const std::vector<TrainingSample>& samples, const TrainOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  validate_feature_spec(options.spec);
+  if (options.spec.family != FeatureFamily::Global && options.spec.l_max > options.descriptor.sh.lmax)
+    throw InvalidInputError("training_data", "features use xi(" + std::to_string(options.spec.l_max) +
+                                                 ") but descriptors are computed up to Lmax " +
+                                                 std::to_string(options.descriptor.sh.lmax));
+  TrainingReport rep;
+  rep.spec = options.spec;
+  rep.seed = options.seed;
+  rep.samples = static_cast<std::int64_t>(samples.size());
+  rep.feature_names = feature_names(options.spec);
+  rep.dataset_sha256 = dataset_sha256(samples);
+  Eigen::MatrixXd X;
+  std::vector<int> y;
+  build_feature_matrix(samples, options.spec, X, y, rep.classes);
+  const int k = static_cast<int>(rep.classes.size());
+  rep.class_counts.assign(k, 0);
+  for (int v : y) ++rep.class_counts[v];
+  if (k < 2) throw InvalidInputError("training_data", "training needs at least 2 classes, got " + std::to_string(k));
+  for (int c = 0; c < k; ++c)
+    if (rep.class_counts[c] < 2)
+      throw InvalidInputError("training_data", "class '" + rep.classes[c] + "' has " +
+                                                   std::to_string(rep.class_counts[c]) + " sample(s); at least 2 are needed");
+
+  // Seeds of the stages derived from the one seed, so changing one stage does not shift the others.
+  const std::uint64_t seed_test = options.seed, seed_grid = options.seed + 1, seed_svm = options.seed + 2,
+                      seed_nested = options.seed + 3;
+  const Split holdout = stratified_shuffle_split(y, 1, options.test_fraction, seed_test).front();
+  rep.train_indices = holdout.train;
+  rep.test_indices = holdout.test;
+  const Eigen::MatrixXd X_train = rows_of(X, holdout.train), X_test = rows_of(X, holdout.test);
+  const std::vector<int> y_train = pick(y, holdout.train), y_test = pick(y, holdout.test);
+  const StandardScaler scaler = StandardScaler::fit(X_train);
+  const Eigen::MatrixXd Xs_train = scaler.transform(X_train), Xs_test = scaler.transform(X_test);
+
+  say("grid search: " + std::to_string(options.grid.Cs.size()) + " x " + std::to_string(options.grid.gammas.size()) +
+      " cells x " + std::to_string(options.grid_splits) + " splits on " + std::to_string(y_train.size()) + " samples");
+  rep.grid = search(Xs_train, y_train, options.grid_splits, options.grid_validation_fraction, seed_grid, options.grid);
+  say("grid search: best C = " + std::to_string(rep.grid.C()) + ", gamma = " + std::to_string(rep.grid.gamma()) +
+      ", validation accuracy " + std::to_string(rep.grid.best_score) + " (" + std::to_string(rep.grid.seconds) + " s)");
+
+  SvmParams params;
+  params.C = rep.grid.C();
+  params.gamma = rep.grid.gamma();
+  params.probability = true;
+  SvmEngine svm = SvmEngine::train(Xs_train, y_train, params, static_cast<unsigned>(seed_svm));
+  std::vector<int> pred_train, pred_test;
+  for (Eigen::Index i = 0; i < Xs_train.rows(); ++i) pred_train.push_back(svm.predict_label(Xs_train.row(i).transpose()));
+  for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) pred_test.push_back(svm.predict_label(Xs_test.row(i).transpose()));
+  rep.train_accuracy = accuracy(y_train, pred_train);
+  rep.test = evaluate_predictions(y_test, pred_test, rep.classes);
+  for (std::size_t i = 0; i < holdout.test.size(); ++i) {
+    rep.test_ids.push_back(samples[holdout.test[i]].id);
+    rep.test_true.push_back(rep.classes[y_test[i]]);
+    rep.test_predicted.push_back(rep.classes[pred_test[i]]);
+  }
+  say("test split: accuracy " + std::to_string(rep.test.accuracy) + " on " + std::to_string(y_test.size()) + " samples");
+
+  // Nested, repeated stratified CV: the whole selection procedure (scaler + grid search) inside each outer fold.
+  const auto nested_start = std::chrono::steady_clock::now();
+  const int min_class = *std::min_element(rep.class_counts.begin(), rep.class_counts.end());
+  const int outer = std::min(options.nested_outer_folds, min_class);
+  if (options.nested_repeats > 0 && outer >= 2) {
+    for (int r = 0; r < options.nested_repeats; ++r) {
+      const auto folds = stratified_k_fold(y, outer, seed_nested + 1000 * static_cast<std::uint64_t>(r));
+      for (std::size_t f = 0; f < folds.size(); ++f) {
+        const Eigen::MatrixXd Xa = rows_of(X, folds[f].train), Xb = rows_of(X, folds[f].test);
+        const std::vector<int> ya = pick(y, folds[f].train), yb = pick(y, folds[f].test);
+        const StandardScaler sc = StandardScaler::fit(Xa);
+        const Eigen::MatrixXd Xas = sc.transform(Xa), Xbs = sc.transform(Xb);
+        GridSearchResult inner;
+        try {
+          inner = search(Xas, ya, options.nested_inner_splits, options.grid_validation_fraction,
+                         seed_nested + 1000 * static_cast<std::uint64_t>(r) + f + 1, options.grid);
+        } catch (const InvalidInputError&) {
+          continue;  // an outer fold too small for the inner split; reported through the fold count
+        }
+        SvmParams p;
+        p.C = inner.C();
+        p.gamma = inner.gamma();
+        p.probability = false;
+        const SvmEngine m = SvmEngine::train(Xas, ya, p, 0);
+        std::vector<int> pb;
+        for (Eigen::Index i = 0; i < Xbs.rows(); ++i) pb.push_back(m.predict_label(Xbs.row(i).transpose()));
+        rep.nested.scores.push_back(accuracy(yb, pb));
+        rep.nested.chosen.emplace_back(p.C, p.gamma);
+      }
+      say("nested CV: repeat " + std::to_string(r + 1) + "/" + std::to_string(options.nested_repeats) + " done");
+    }
+    if (!rep.nested.scores.empty()) {
+      double sum = 0;
+      for (double s : rep.nested.scores) sum += s;
+      rep.nested.mean = sum / static_cast<double>(rep.nested.scores.size());
+      double var = 0;
+      for (double s : rep.nested.scores) var += (s - rep.nested.mean) * (s - rep.nested.mean);
+      rep.nested.std = std::sqrt(var / static_cast<double>(rep.nested.scores.size()));
+    }
+  }
+  rep.seconds_nested = std::chrono::duration<double>(std::chrono::steady_clock::now() - nested_start).count();
+
+  StandardScaler final_scaler = scaler;
+  if (options.refit_on_all) {
+    final_scaler = StandardScaler::fit(X);
+    svm = SvmEngine::train(final_scaler.transform(X), y, params, static_cast<unsigned>(seed_svm));
+  }
+  auto state = std::make_shared<ClassifierModel::State>(std::move(svm));
+  state->name = options.name;
+  state->version = options.version;
+  state->classes = rep.classes;
+  state->descriptor = options.descriptor;
+  state->spec = options.spec;
+  state->scaler = final_scaler;
+  TrainingSummary& t = state->summary;
+  t.dataset_sha256 = rep.dataset_sha256;
+  t.trained_at = iso_now(options.trained_at);
+  t.samples = rep.samples;
+  t.best_c = rep.grid.C();
+  t.best_gamma = rep.grid.gamma();
+  t.grid_score = rep.grid.best_score;
+  t.test_accuracy = rep.test.accuracy;
+  t.nested_cv_mean = rep.nested.mean;
+  t.nested_cv_std = rep.nested.std;
+  t.notes = options.notes;
+  if (!t.notes.empty()) t.notes += " ";
+  t.notes += std::string("seed ") + std::to_string(options.seed) + (options.refit_on_all ? "; refit on all samples" : "; fit on the training split");
+  rep.seconds_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return {ClassifierModel(finalize_state(std::move(state))), std::move(rep)};
+}
+
+}  // namespace wish

@@ -1,0 +1,83 @@
+#pragma once
+// Training a ClassifierModel (paper §6; classification.md): feature pipeline -> stratified 20 % test split ->
+// z-score fitted on the training split -> grid search (StratifiedShuffleSplit, fixed seed) -> RBF C-SVM with
+// Platt probabilities at the best (C, gamma) -> test accuracy, confusion matrix, per-class P/R/F1 -> nested,
+// repeated stratified CV (outer k-fold repeated; inner grid search on each outer training fold, scaler refitted
+// per fold) for an honest estimate. Everything is deterministic for a seed.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/classify/classifier_model.hpp"
+#include "core/classify/grid_search.hpp"
+#include "core/classify/metrics.hpp"
+
+namespace wish {
+
+struct TrainingSample {
+  std::string id;     // file name or path (reports only)
+  std::string label;  // class name
+  ShapeFeatures features;
+};
+
+struct TrainOptions {
+  std::string name = "wish-svm";
+  std::string version = "1";
+  FeatureSpec spec;
+  DescriptorSettings descriptor;   // recorded in the model: how the features were computed
+  GridSearchOptions grid;          // C, gamma grid and jobs
+  int grid_splits = 10;            // StratifiedShuffleSplit n_splits (scikit-learn's default)
+  double grid_validation_fraction = 0.2;
+  double test_fraction = 0.2;      // the paper's stratified hold-out
+  int nested_outer_folds = 5;
+  int nested_repeats = 2;          // 0: skip nested CV
+  int nested_inner_splits = 5;
+  bool refit_on_all = false;       // false: the shipped model is the one measured on the test split
+  std::uint64_t seed = 42;
+  std::string trained_at;          // ISO 8601; empty: now, or SOURCE_DATE_EPOCH when set (reproducible files)
+  std::string notes;
+  std::function<void(const std::string&)> progress;  // optional, e.g. lines to stderr
+};
+
+struct NestedCvResult {
+  std::vector<double> scores;                       // one per outer fold and repeat
+  std::vector<std::pair<double, double>> chosen;    // (C, gamma) picked by each inner search
+  double mean = 0, std = 0;
+};
+
+struct TrainingReport {
+  std::vector<std::string> classes;
+  std::vector<int> class_counts;
+  std::vector<std::string> feature_names;
+  FeatureSpec spec;
+  std::int64_t samples = 0;
+  std::string dataset_sha256;
+  std::uint64_t seed = 0;
+  std::vector<int> train_indices, test_indices;  // into the samples given
+  GridSearchResult grid;
+  double train_accuracy = 0;
+  ClassificationMetrics test;                    // on the hold-out split
+  NestedCvResult nested;
+  double seconds_total = 0, seconds_nested = 0;
+  std::vector<std::string> test_ids;
+  std::vector<std::string> test_true, test_predicted;
+};
+
+struct TrainingResult {
+  ClassifierModel model;
+  TrainingReport report;
+};
+
+// Throws InvalidInputError("training_data") for too few samples / classes, inconsistent feature sizes.
+TrainingResult train_classifier(const std::vector<TrainingSample>& samples, const TrainOptions& options);
+
+// The feature matrix (unscaled, one row per sample) and class indices (classes sorted by name).
+void build_feature_matrix(const std::vector<TrainingSample>& samples, const FeatureSpec& spec, Eigen::MatrixXd& X,
+                          std::vector<int>& y, std::vector<std::string>& classes);
+
+// SHA-256 over labels and feature values in a canonical text form (not file names: paths differ per machine).
+std::string dataset_sha256(const std::vector<TrainingSample>& samples);
+
+}  // namespace wish

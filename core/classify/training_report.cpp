@@ -1,0 +1,190 @@
+#include "core/classify/training_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/classify/feature_pipeline.hpp"
+
+namespace wish {
+namespace {
+
+using nlohmann::json;
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string exponent_label(double v) {
+  const double e = std::log10(v);
+  if (std::abs(e - std::round(e)) < 1e-9) return "1e" + std::to_string(static_cast<int>(std::round(e)));
+  return fmt("%.3g", v);
+}
+
+// ColorBrewer BuPu, 9 classes, interpolated linearly in sRGB.
+std::string bupu(double t) {
+  static const int stops[9][3] = {{247, 252, 253}, {224, 236, 244}, {191, 211, 230}, {158, 188, 218}, {140, 150, 198},
+                                  {140, 107, 177}, {136, 65, 157},  {129, 15, 124},  {77, 0, 75}};
+  t = std::clamp(t, 0.0, 1.0) * 8;
+  const int i = std::min(static_cast<int>(t), 7);
+  const double f = t - i;
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", static_cast<int>(std::lround(stops[i][0] + f * (stops[i + 1][0] - stops[i][0]))),
+                static_cast<int>(std::lround(stops[i][1] + f * (stops[i + 1][1] - stops[i][1]))),
+                static_cast<int>(std::lround(stops[i][2] + f * (stops[i + 1][2] - stops[i][2]))));
+  return buf;
+}
+
+json matrix_json(const Eigen::MatrixXd& m) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    json row = json::array();
+    for (Eigen::Index j = 0; j < m.cols(); ++j) row.push_back(m(i, j));
+    out.push_back(row);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string training_report_json(const TrainingReport& r) {
+  json classes = json::array();
+  for (std::size_t c = 0; c < r.classes.size(); ++c) classes.push_back({{"label", r.classes[c]}, {"count", r.class_counts[c]}});
+  json per_class = json::array();
+  for (const auto& m : r.test.per_class)
+    per_class.push_back({{"label", m.label}, {"precision", m.precision}, {"recall", m.recall}, {"f1", m.f1}, {"support", m.support}});
+  json confusion = json::array();
+  for (Eigen::Index i = 0; i < r.test.confusion.rows(); ++i) {
+    json row = json::array();
+    for (Eigen::Index j = 0; j < r.test.confusion.cols(); ++j) row.push_back(r.test.confusion(i, j));
+    confusion.push_back(row);
+  }
+  json chosen = json::array();
+  for (const auto& [c, g] : r.nested.chosen) chosen.push_back({{"C", c}, {"gamma", g}});
+  json test_samples = json::array();
+  for (std::size_t i = 0; i < r.test_ids.size(); ++i)
+    test_samples.push_back({{"id", r.test_ids[i]}, {"true", r.test_true[i]}, {"predicted", r.test_predicted[i]}});
+  json doc = {
+      {"samples", r.samples},
+      {"dataset_sha256", r.dataset_sha256},
+      {"seed", r.seed},
+      {"classes", classes},
+      {"features",
+       {{"family", to_string(r.spec.family)}, {"l_min", r.spec.l_min}, {"l_max", r.spec.l_max}, {"scale", to_string(r.spec.scale)},
+        {"log", r.spec.log_transform}, {"global_scale_free", r.spec.global_scale_free}, {"names", r.feature_names}}},
+      {"grid",
+       {{"C", r.grid.Cs}, {"gamma", r.grid.gammas}, {"mean_accuracy", matrix_json(r.grid.mean_score)},
+        {"std_accuracy", matrix_json(r.grid.std_score)}, {"best_C", r.grid.C()}, {"best_gamma", r.grid.gamma()},
+        {"best_score", r.grid.best_score}, {"seconds", r.grid.seconds}}},
+      {"train_accuracy", r.train_accuracy},
+      {"test",
+       {{"samples", r.test_indices.size()}, {"accuracy", r.test.accuracy}, {"macro_f1", r.test.macro_f1},
+        {"confusion_matrix", confusion}, {"confusion_rows", "true class"}, {"confusion_columns", "predicted class"},
+        {"per_class", per_class}, {"predictions", test_samples}}},
+      {"nested_cv",
+       {{"folds", r.nested.scores.size()}, {"scores", r.nested.scores}, {"mean", r.nested.mean}, {"std", r.nested.std},
+        {"chosen", chosen}, {"seconds", r.seconds_nested}}},
+      {"seconds", r.seconds_total}};
+  return doc.dump(2) + "\n";
+}
+
+std::string training_report_table(const TrainingReport& r) {
+  std::ostringstream o;
+  o << "samples " << r.samples << ", classes " << r.classes.size() << ", features " << r.feature_names.size() << " ("
+    << to_string(r.spec.family) << ")\n";
+  o << "best C = " << exponent_label(r.grid.C()) << ", gamma = " << exponent_label(r.grid.gamma())
+    << "  (grid validation accuracy " << fmt("%.3f", r.grid.best_score) << ")\n";
+  o << "train accuracy " << fmt("%.3f", r.train_accuracy) << ", test accuracy " << fmt("%.3f", r.test.accuracy) << " on "
+    << r.test_indices.size() << " held-out samples";
+  if (!r.nested.scores.empty())
+    o << ", nested CV " << fmt("%.3f", r.nested.mean) << " +- " << fmt("%.3f", r.nested.std) << " (" << r.nested.scores.size()
+      << " outer folds)";
+  o << "\n\n";
+  std::size_t w = 10;
+  for (const auto& c : r.classes) w = std::max(w, c.size() + 1);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%-*s %9s %9s %9s %8s\n", static_cast<int>(w), "class", "precision", "recall", "f1", "support");
+  o << buf;
+  for (const auto& m : r.test.per_class) {
+    std::snprintf(buf, sizeof buf, "%-*s %9.3f %9.3f %9.3f %8d\n", static_cast<int>(w), m.label.c_str(), m.precision, m.recall,
+                  m.f1, m.support);
+    o << buf;
+  }
+  o << "\nconfusion matrix (rows: true, columns: predicted)\n";
+  std::snprintf(buf, sizeof buf, "%-*s", static_cast<int>(w), "");
+  o << buf;
+  for (const auto& c : r.classes) o << " " << c.substr(0, 6) << std::string(c.size() < 6 ? 6 - c.size() : 0, ' ');
+  o << "\n";
+  for (Eigen::Index i = 0; i < r.test.confusion.rows(); ++i) {
+    std::snprintf(buf, sizeof buf, "%-*s", static_cast<int>(w), r.classes[static_cast<std::size_t>(i)].c_str());
+    o << buf;
+    for (Eigen::Index j = 0; j < r.test.confusion.cols(); ++j) {
+      std::snprintf(buf, sizeof buf, " %6d", r.test.confusion(i, j));
+      o << buf;
+    }
+    o << "\n";
+  }
+  return o.str();
+}
+
+std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title) {
+  const int nc = static_cast<int>(g.Cs.size()), ng = static_cast<int>(g.gammas.size());
+  const int cell = 40, left = 80, top = 50, right = 90, bottom = 60;
+  const int width = left + ng * cell + right, height = top + nc * cell + bottom;
+  const double lo = g.mean_score.size() ? g.mean_score.minCoeff() : 0, hi = g.mean_score.size() ? g.mean_score.maxCoeff() : 1;
+  auto escape = [](std::string s) {
+    std::string out;
+    for (char ch : s) {
+      if (ch == '<') out += "&lt;";
+      else if (ch == '>') out += "&gt;";
+      else if (ch == '&') out += "&amp;";
+      else out += ch;
+    }
+    return out;
+  };
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+    << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+  o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  o << "<text x=\"" << left << "\" y=\"20\" font-size=\"14\">" << escape(title) << "</text>\n";
+  o << "<text x=\"" << left << "\" y=\"38\">mean validation accuracy; best C = " << exponent_label(g.C()) << ", gamma = "
+    << exponent_label(g.gamma()) << " (" << fmt("%.3f", g.best_score) << ")</text>\n";
+  for (int ci = 0; ci < nc; ++ci) {
+    for (int gi = 0; gi < ng; ++gi) {
+      const double v = g.mean_score(ci, gi);
+      const double t = hi > lo ? (v - lo) / (hi - lo) : 1.0;
+      const int x = left + gi * cell, y = top + ci * cell;
+      o << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << cell << "\" height=\"" << cell << "\" fill=\"" << bupu(t)
+        << "\"><title>C=" << exponent_label(g.Cs[ci]) << " gamma=" << exponent_label(g.gammas[gi]) << ": " << fmt("%.3f", v)
+        << "</title></rect>\n";
+      o << "<text x=\"" << x + cell / 2 << "\" y=\"" << y + cell / 2 + 4 << "\" text-anchor=\"middle\" font-size=\"9\" fill=\""
+        << (t > 0.55 ? "white" : "black") << "\">" << fmt("%.2f", v) << "</text>\n";
+    }
+    o << "<text x=\"" << left - 6 << "\" y=\"" << top + ci * cell + cell / 2 + 4 << "\" text-anchor=\"end\">"
+      << exponent_label(g.Cs[ci]) << "</text>\n";
+  }
+  for (int gi = 0; gi < ng; ++gi)
+    o << "<text x=\"" << left + gi * cell + cell / 2 << "\" y=\"" << top + nc * cell + 16
+      << "\" text-anchor=\"middle\" font-size=\"9\">" << exponent_label(g.gammas[gi]) << "</text>\n";
+  o << "<text x=\"" << left + ng * cell / 2 << "\" y=\"" << top + nc * cell + 40 << "\" text-anchor=\"middle\">gamma</text>\n";
+  o << "<text x=\"20\" y=\"" << top + nc * cell / 2 << "\" transform=\"rotate(-90 20 " << top + nc * cell / 2
+    << ")\" text-anchor=\"middle\">C</text>\n";
+  o << "<rect x=\"" << left + g.best_gamma * cell + 1 << "\" y=\"" << top + g.best_c * cell + 1 << "\" width=\"" << cell - 2
+    << "\" height=\"" << cell - 2 << "\" fill=\"none\" stroke=\"#e6550d\" stroke-width=\"3\"/>\n";
+  // Colour bar.
+  const int bx = left + ng * cell + 20;
+  for (int i = 0; i < 100; ++i)
+    o << "<rect x=\"" << bx << "\" y=\"" << top + (99 - i) * nc * cell / 100 << "\" width=\"16\" height=\""
+      << nc * cell / 100 + 1 << "\" fill=\"" << bupu(i / 99.0) << "\"/>\n";
+  o << "<text x=\"" << bx + 20 << "\" y=\"" << top + 8 << "\">" << fmt("%.2f", hi) << "</text>\n";
+  o << "<text x=\"" << bx + 20 << "\" y=\"" << top + nc * cell << "\">" << fmt("%.2f", lo) << "</text>\n";
+  o << "</svg>\n";
+  return o.str();
+}
+
+}  // namespace wish

@@ -1,0 +1,97 @@
+// The WISH pipeline (paper Fig. 1): read -> validate/repair -> conformal sphere map (§4) -> SH fit (§5)
+// -> rotation-invariant energies (Eq. 14) -> SVM (§6). Every stage is timed; every failure is a WishError
+// with a machine-readable code, so the CLI and the HTTP service report it the same way.
+#include "core/pipeline/pipeline.hpp"
+
+#include <chrono>
+#include <utility>
+
+#include "core/classify/global_descriptors.hpp"
+#include "core/sh/sh_fit.hpp"
+#include "core/sh/sh_reconstruction.hpp"
+
+namespace wish {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A map that failed verification is never passed on as a success (spherical-map.md §7).
+void require_verified_map(const SphericalMapResult& map) {
+  if (map.ok()) return;
+  const MapAttempt* last = map.attempts.empty() ? nullptr : &map.attempts.back();
+  std::string message = "the spherical map failed verification (" + map.failed_check + ")";
+  if (last && !last->message.empty()) message += ": " + last->message;
+  message += " after " + std::to_string(map.attempts.size()) + " attempt(s)";
+  throw WishError(ErrorCategory::Unmappable, "map_failed", message,
+                  {{"check", map.failed_check},
+                   {"status", std::string(to_string(map.status))},
+                   {"attempts", static_cast<std::int64_t>(map.attempts.size())},
+                   {"flipped_faces", static_cast<std::int64_t>(map.quality.flipped_faces)},
+                   {"roundness", map.quality.roundness}});
+}
+
+}  // namespace
+
+PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline) {
+  const auto start = Clock::now();
+  PipelineResult result;
+
+  auto t = Clock::now();
+  result.prepared = prepare_for_mapping(std::move(mesh), options.repair);
+  require_mappable(result.prepared);
+  result.timings.validate = seconds_since(t);
+  deadline.check("validation");
+
+  t = Clock::now();
+  result.map = compute_spherical_map(result.prepared.mesh, options.map, deadline);
+  result.timings.map = seconds_since(t);
+  require_verified_map(result.map);
+  deadline.check("spherical map");
+
+  t = Clock::now();
+  result.sh = fit_spherical_harmonics(result.prepared.mesh, result.map.sphere, options.sh);
+  result.features.invariants = result.sh.invariants;
+  if (options.compute_global_features) result.features.global = global_shape_descriptors(result.prepared.mesh);
+  if (options.reconstruction_level >= 0)
+    result.reconstruction = reconstruct_on_icosphere(result.sh, options.reconstruction_level);
+  result.timings.fit = seconds_since(t);
+
+  result.timings.total = seconds_since(start);
+  return result;
+}
+
+PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions& options, const Deadline& deadline) {
+  const auto start = Clock::now();
+  ReadResult read = read_mesh(bytes, options.read);
+  const double read_seconds = seconds_since(start);
+  deadline.check("reading");
+
+  PipelineResult result = describe_mesh(std::move(read.mesh), options, deadline);
+  result.format = read.format;
+  result.read_notes = std::move(read.notes);
+  result.timings.read = read_seconds;
+  result.timings.total = seconds_since(start);
+  return result;
+}
+
+PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel& model, PipelineOptions options,
+                                   const Deadline& deadline) {
+  const auto start = Clock::now();
+  // The descriptor must be computed exactly as the model's training descriptors were (classification.md).
+  options.map = model.descriptor_settings().map;
+  options.sh = model.descriptor_settings().sh;
+  options.compute_global_features = options.compute_global_features || model.needs_global_features();
+
+  PipelineResult result = describe_mesh_bytes(bytes, options, deadline);
+  const auto t = Clock::now();
+  result.prediction = model.predict(result.features);
+  result.timings.classify = seconds_since(t);
+  result.timings.total = seconds_since(start);
+  return result;
+}
+
+}  // namespace wish

@@ -1,0 +1,27 @@
+#pragma once
+// What a flow (Willmore or cMCF) hands to the sphere-map stage: the flowed surface (centred on its area-weighted
+// centroid, total area 4π, input connectivity), the step trace, and whether the flow converged.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/spherical_map/spherical_map.hpp"
+
+namespace wish::spherical {
+
+struct FlowResult {
+  Eigen::MatrixX3d vertices;
+  std::vector<FlowStepRecord> steps;  // accepted and rejected, in order
+  MapStatus status = MapStatus::Ok;   // Ok (a stopping criterion was met), NotConverged or SolverFailed
+  std::string failed_check;           // "roundness", "energy", "eigen_residual", "solver", "non_finite", ...
+  std::string message;
+  double initial_energy = 0, energy = 0;  // Willmore energy Σ M_i H_i² before / after
+  double initial_roundness = 0, roundness = 0;
+};
+
+// Centre `x` on its area-weighted centroid and scale it to total area 4π (so the flow's limit is the unit sphere).
+void normalise_area_and_centre(Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces);
+
+}  // namespace wish::spherical

@@ -1,0 +1,95 @@
+#include "core/spherical_map/map_verification.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace wish::spherical {
+namespace {
+
+// Triangle (p0, p1, p2) in its own orthonormal 2D frame: columns are p1 − p0 and p2 − p0.
+Eigen::Matrix2d local_frame(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
+  const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
+  const double l1 = e1.norm();
+  const Eigen::Vector3d x = e1 / l1;
+  const Eigen::Vector3d n = e1.cross(e2);
+  const Eigen::Vector3d y = n.normalized().cross(x);
+  Eigen::Matrix2d m;
+  m << l1, e2.dot(x), 0.0, e2.dot(y);
+  return m;
+}
+
+}  // namespace
+
+MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
+                       const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds) {
+  MapQuality q;
+  for (Eigen::Index i = 0; i < sphere.rows(); ++i)
+    if (!sphere.row(i).allFinite()) ++q.non_finite_vertices;
+  const Eigen::Index nf = faces.rows();
+  double input_area = 0, sphere_area = 0, solid_angle = 0;
+  std::vector<double> in_area(static_cast<size_t>(nf)), out_area(static_cast<size_t>(nf));
+  q.min_face_area = std::numeric_limits<double>::infinity();
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Eigen::Vector3d a = sphere.row(faces(f, 0)), b = sphere.row(faces(f, 1)), c = sphere.row(faces(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (!(n.dot(a + b + c) > 0)) ++q.flipped_faces;
+    const double area = 0.5 * n.norm();
+    q.min_face_area = std::min(q.min_face_area, area);
+    if (!(area >= thresholds.degenerate_area * 4.0 * std::numbers::pi)) ++q.degenerate_faces;
+    const double num = a.dot(b.cross(c));
+    const double den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+    solid_angle += 2.0 * std::atan2(num, den);
+    const Eigen::Vector3d p0 = input_vertices.row(faces(f, 0)), p1 = input_vertices.row(faces(f, 1)),
+                          p2 = input_vertices.row(faces(f, 2));
+    in_area[static_cast<size_t>(f)] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    out_area[static_cast<size_t>(f)] = area;
+    input_area += in_area[static_cast<size_t>(f)];
+    sphere_area += area;
+  }
+  q.degree = static_cast<int>(std::lround(solid_angle / (4.0 * std::numbers::pi)));
+  // Conformal distortion and area distortion.
+  std::vector<double> k(static_cast<size_t>(nf));
+  double ksum = 0, log_sum = 0;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Eigen::Matrix2d p = local_frame(input_vertices.row(faces(f, 0)), input_vertices.row(faces(f, 1)),
+                                          input_vertices.row(faces(f, 2)));
+    const Eigen::Matrix2d s =
+        local_frame(sphere.row(faces(f, 0)), sphere.row(faces(f, 1)), sphere.row(faces(f, 2)));
+    const Eigen::Matrix2d j = s * p.inverse();
+    // Singular values of a 2×2 matrix: σ₁,₂ = (√(‖J‖²_F + 2|det J|) ± √(‖J‖²_F − 2|det J|)) / 2.
+    const double fro2 = j.squaredNorm(), det = std::abs(j.determinant());
+    const double sp = std::sqrt(std::max(0.0, fro2 + 2 * det)), sm = std::sqrt(std::max(0.0, fro2 - 2 * det));
+    const double s1 = 0.5 * (sp + sm), s2 = 0.5 * (sp - sm);
+    double kf = s2 > 0 ? s1 / s2 : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(kf)) kf = std::numeric_limits<double>::infinity();
+    k[static_cast<size_t>(f)] = kf;
+    ksum += kf;
+    const double ratio = (out_area[static_cast<size_t>(f)] / sphere_area) / (in_area[static_cast<size_t>(f)] / input_area);
+    log_sum += std::abs(std::log(ratio));
+  }
+  if (nf > 0) {
+    q.conformal_mean = ksum / static_cast<double>(nf);
+    q.conformal_max = *std::max_element(k.begin(), k.end());
+    const size_t idx = std::min(k.size() - 1, static_cast<size_t>(std::ceil(0.99 * static_cast<double>(k.size()))) - 1);
+    std::nth_element(k.begin(), k.begin() + static_cast<std::ptrdiff_t>(idx), k.end());
+    q.conformal_p99 = k[idx];
+    q.area_distortion = std::exp(log_sum / static_cast<double>(nf));
+  }
+  return q;
+}
+
+std::string failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds) {
+  if (quality.non_finite_vertices > 0) return "non_finite";
+  if (quality.flipped_faces > 0) return "flipped_faces";
+  if (quality.degenerate_faces > 0) return "degenerate_faces";
+  if (quality.degree != 1) return "degree";
+  if (!(quality.conformal_p99 <= thresholds.max_conformal_p99)) return "conformal_distortion";
+  return {};
+}
+
+}  // namespace wish::spherical

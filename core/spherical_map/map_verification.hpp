@@ -1,0 +1,26 @@
+#pragma once
+// Verification of a sphere map u: input mesh → S² (spherical-map.md §7). Fills MapQuality:
+//  * flipped faces: (a,b,c) inverted iff ((u_b − u_a)×(u_c − u_a))·(u_a + u_b + u_c) ≤ 0 — must be 0;
+//  * degenerate faces: flat spherical-triangle area < thresholds.degenerate_area · 4π;
+//  * degree: Σ signed solid angles / 4π, rounded (Van Oosterom–Strackee); +1 for a bijective, orientation-
+//    preserving map;
+//  * conformal distortion K_f = σ₁/σ₂ ≥ 1 of the affine map input triangle → sphere triangle (mean, p99, max);
+//  * area distortion exp(mean_f |log(a_f/A_f)|), areas normalised to equal totals (1 = equiareal).
+// Roundness and the Möbius centroid are filled by the caller (they belong to the flow and the balancing).
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/spherical_map/spherical_map.hpp"
+
+namespace wish::spherical {
+
+MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
+                       const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds);
+
+// First failed check in the order "non_finite", "flipped_faces", "degenerate_faces", "degree",
+// "conformal_distortion"; empty when the map passes.
+std::string failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
+
+}  // namespace wish::spherical

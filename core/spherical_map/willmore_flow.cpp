@@ -1,0 +1,249 @@
+#include "core/spherical_map/willmore_flow.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/geometry/cotan_laplacian.hpp"
+#include "core/geometry/face_geometry.hpp"
+#include "core/geometry/mass_matrix.hpp"
+#include "core/geometry/mean_curvature.hpp"
+#include "core/geometry/roundness.hpp"
+#include "core/geometry/vertex_normals.hpp"
+#include "core/geometry/vertex_pattern.hpp"
+#include "core/linalg/sparse_cholesky.hpp"
+#include "core/spherical_map/dirac_operator.hpp"
+#include "core/spherical_map/spin_transform.hpp"
+
+namespace wish::spherical {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+linalg::CholeskyOptions cholesky_options(LinearSolverKind kind, linalg::CholmodMode mode) {
+  linalg::CholeskyOptions o;
+  o.backend = kind == LinearSolverKind::Cholmod ? linalg::CholeskyBackend::Cholmod
+                                                : linalg::CholeskyBackend::EigenSimplicial;
+  o.cholmod_mode = mode;
+  return o;
+}
+
+// Everything derived from the current positions.
+struct SurfaceState {
+  Eigen::MatrixX3d x;
+  Eigen::VectorXd areas, mass, h;
+  Eigen::MatrixX3d cot, normals;
+  Eigen::SparseMatrix<double> laplacian;
+  double energy = 0, roundness = 0;
+  bool finite = true;
+};
+
+void update_state(const geometry::VertexPattern& pattern, const Eigen::MatrixX3i& faces, SurfaceState& s) {
+  s.areas = geometry::face_areas(s.x, faces);
+  s.cot = geometry::corner_cotangents(s.x, faces);
+  geometry::assemble_cotan_laplacian(pattern, faces, s.cot, s.laplacian);
+  s.mass = geometry::lumped_mass(faces, s.areas, s.x.rows());
+  s.normals = geometry::vertex_normals(s.x, faces);
+  s.h = geometry::mean_curvature(s.x, s.laplacian, s.mass, s.normals);
+  s.energy = geometry::willmore_energy(s.h, s.mass);
+  s.roundness = geometry::roundness(s.x, s.mass);
+  s.finite = s.x.allFinite() && s.cot.allFinite() && s.h.allFinite() && std::isfinite(s.energy) &&
+             s.areas.minCoeff() > 0;
+}
+
+// P(g) = g − Σ_k ⟨g, u_k⟩_M u_k with {u_k} the M-orthonormalised {1, N_x, N_y, N_z} (modified Gram–Schmidt, two
+// passes). Removes the constant (first-order integrability) and Möbius (normal-translation) components.
+Eigen::VectorXd project_admissible(const Eigen::VectorXd& g, const Eigen::VectorXd& mass, const Eigen::MatrixX3d& normals) {
+  const Eigen::Index n = g.size();
+  Eigen::Matrix<double, Eigen::Dynamic, 4> basis(n, 4);
+  basis.col(0).setOnes();
+  basis.rightCols(3) = normals;
+  auto dot = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a.array() * mass.array() * b.array()).sum(); };
+  for (int k = 0; k < 4; ++k) {
+    Eigen::VectorXd u = basis.col(k);
+    for (int pass = 0; pass < 2; ++pass)
+      for (int j = 0; j < k; ++j) u -= dot(u, basis.col(j)) * basis.col(j);
+    const double norm = std::sqrt(dot(u, u));
+    basis.col(k) = norm > 0 ? Eigen::VectorXd(u / norm) : Eigen::VectorXd::Zero(n);
+  }
+  Eigen::VectorXd out = g;
+  for (int k = 0; k < 4; ++k) out -= dot(out, basis.col(k)) * basis.col(k);
+  return out;
+}
+
+}  // namespace
+
+void normalise_area_and_centre(Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces) {
+  const Eigen::VectorXd mass = geometry::lumped_mass(x, faces);
+  const double area = mass.sum();
+  const Eigen::Vector3d c = geometry::area_weighted_centroid(x, mass);
+  x.rowwise() -= c.transpose();
+  x *= std::sqrt(4.0 * std::numbers::pi / area);
+}
+
+FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver_kind,
+                         const Deadline& deadline) {
+  FlowResult result;
+  const Eigen::MatrixX3i& faces = mesh.faces;
+  const geometry::VertexPattern pattern = geometry::build_vertex_pattern(mesh.vertex_count(), faces);
+  DiracPattern dirac = build_dirac_pattern(pattern);
+  linalg::SparseCholesky dirac_solver(cholesky_options(solver_kind, linalg::CholmodMode::Supernodal));
+  linalg::SparseCholesky poisson_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto));
+  linalg::SparseCholesky filter_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto));
+  EigenSolveOptions eigen_options;
+  eigen_options.max_iterations = options.max_inverse_iterations;
+
+  SurfaceState state;
+  state.x = mesh.vertices;
+  normalise_area_and_centre(state.x, faces);
+  state.laplacian = pattern.pattern;
+  update_state(pattern, faces, state);
+  result.initial_energy = result.energy = state.energy;
+  result.initial_roundness = result.roundness = state.roundness;
+  result.vertices = state.x;
+  if (!state.finite) {
+    result.status = MapStatus::SolverFailed;
+    result.failed_check = "non_finite";
+    result.message = "input geometry gives non-finite curvature or zero-area faces";
+    return result;
+  }
+
+  Eigen::SparseMatrix<double> pinned, filter_matrix;
+  Eigen::VectorXd lambda;
+  double tau = options.tau;
+  bool stopped = false;
+  for (int step = 1; step <= options.max_steps && !stopped; ++step) {
+    deadline.check("willmore flow step");
+    if (state.roundness < options.roundness_tolerance) break;
+    bool accepted = false;
+    while (!accepted) {
+      const Clock::time_point t_step = Clock::now();
+      FlowStepRecord rec;
+      rec.step = step;
+      rec.tau = tau;
+      // Curvature change ρ = −τ P(H) (or of the low-pass filtered H).
+      Clock::time_point t0 = Clock::now();
+      Eigen::VectorXd g = state.h;
+      bool filter_failed = false;
+      if (options.filtered) {
+        const double edge = geometry::mean_edge_length(state.x, faces);
+        const double sigma = options.filter_strength * edge * edge;
+        filter_matrix = state.laplacian;
+        filter_matrix *= sigma;
+        for (Eigen::Index i = 0; i < state.mass.size(); ++i)
+          filter_matrix.valuePtr()[pattern.diagonal[static_cast<size_t>(i)]] += state.mass[i];
+        if (filter_solver.factorize(filter_matrix)) {
+          g = filter_solver.solve(Eigen::VectorXd(state.mass.cwiseProduct(state.h)));
+        } else {
+          filter_failed = true;
+        }
+      }
+      if (filter_failed) {
+        result.status = MapStatus::SolverFailed;
+        result.failed_check = "solver";
+        result.message = "filter factorisation failed: " + filter_solver.message();
+        rec.accepted = false;
+        rec.note = result.message;
+        result.steps.push_back(rec);
+        stopped = true;
+        break;
+      }
+      const Eigen::VectorXd rho = -tau * project_admissible(g, state.mass, state.normals);
+      const double mean_diag = assemble_dirac(pattern, dirac, state.x, faces, state.areas, rho);
+      rec.geometry_seconds = seconds_since(t0);
+      // λ: smallest eigenvector of 𝔼(ρ).
+      const EigenSolveReport eig = smallest_eigenvector(dirac_solver, dirac.matrix, mean_diag, eigen_options, lambda);
+      rec.factor_seconds = eig.factor_seconds;
+      rec.eigen_seconds = eig.solve_seconds;
+      rec.eigen_residual = eig.residual;
+      rec.rayleigh = eig.rayleigh;
+      rec.inverse_iterations = eig.iterations;
+      rec.eigen_shift = eig.shift;
+      if (!eig.ok) {
+        rec.accepted = false;
+        rec.note = eig.message;
+        rec.seconds = seconds_since(t_step);
+        result.steps.push_back(rec);
+        result.status = MapStatus::SolverFailed;
+        result.failed_check = "solver";
+        result.message = "step " + std::to_string(step) + ": " + eig.message;
+        stopped = true;
+        break;
+      }
+      // New positions: divergence of the transformed edges, pinned Poisson solve.
+      t0 = Clock::now();
+      Eigen::MatrixX3d omega = spin_divergence(state.x, faces, state.cot, lambda);
+      omega.row(0).setZero();
+      pin_vertex(state.laplacian, 0, pinned);
+      SurfaceState next;
+      bool poisson_ok = poisson_solver.factorize(pinned);
+      if (poisson_ok) {
+        next.x = poisson_solver.solve(omega);
+        normalise_area_and_centre(next.x, faces);
+        next.laplacian = state.laplacian;
+        update_state(pattern, faces, next);
+      }
+      rec.poisson_seconds = seconds_since(t0);
+      if (!poisson_ok) {
+        rec.accepted = false;
+        rec.note = "Poisson factorisation failed: " + poisson_solver.message();
+        rec.seconds = seconds_since(t_step);
+        result.steps.push_back(rec);
+        result.status = MapStatus::SolverFailed;
+        result.failed_check = "solver";
+        result.message = "step " + std::to_string(step) + ": " + rec.note;
+        stopped = true;
+        break;
+      }
+      rec.energy = next.energy;
+      rec.roundness = next.roundness;
+      std::string reject;
+      if (!next.finite)
+        reject = "non_finite";
+      else if (next.energy > state.energy * (1.0 + options.energy_increase_tolerance))
+        reject = "energy";
+      else if (eig.residual > options.max_eigen_residual)
+        reject = "eigen_residual";
+      rec.seconds = seconds_since(t_step);
+      if (!reject.empty()) {
+        rec.accepted = false;
+        rec.note = reject;
+        result.steps.push_back(rec);
+        tau *= 0.5;
+        if (tau < options.min_tau) {
+          result.status = MapStatus::NotConverged;
+          result.failed_check = reject;
+          result.message = "step " + std::to_string(step) + " rejected (" + reject + ") down to tau " +
+                           std::to_string(tau * 2) + " < 2*min_tau";
+          stopped = true;
+          break;
+        }
+        continue;
+      }
+      accepted = true;
+      result.steps.push_back(rec);
+      const double previous_energy = state.energy;
+      state = std::move(next);
+      result.vertices = state.x;
+      result.energy = state.energy;
+      result.roundness = state.roundness;
+      if (state.roundness < options.roundness_tolerance) {
+        stopped = true;
+      } else if ((previous_energy - state.energy) < options.energy_tolerance * previous_energy) {
+        stopped = true;  // energy plateau: further steps change nothing
+      }
+    }
+  }
+  if (result.status == MapStatus::Ok && !stopped && state.roundness >= options.roundness_tolerance) {
+    result.status = MapStatus::NotConverged;
+    result.failed_check = "roundness";
+    result.message = "roundness " + std::to_string(state.roundness) + " above tolerance " +
+                     std::to_string(options.roundness_tolerance) + " after " + std::to_string(options.max_steps) +
+                     " steps";
+  }
+  return result;
+}
+
+}  // namespace wish::spherical

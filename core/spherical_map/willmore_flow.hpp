@@ -1,0 +1,26 @@
+#pragma once
+// Discrete Willmore flow in curvature space with spin transformations (Crane, Pinkall, Schröder 2013, "Robust
+// Fairing via Conformal Curvature Flow"; spherical-map.md §1–5). One step, relative to the current surface:
+//   normals N, cot Laplacian L (PSD), lumped mass M, mean curvature H_i = N_i·(Lx)_i/(2M_i)  (H > 0 convex)
+//   → admissible projection P (⟨,⟩_M-orthogonal to {1, N_x, N_y, N_z})
+//   → curvature change ρ = −τ P(H)  (or −τ P(H_σ), H_σ = (M + σL)⁻¹ M H, for the filtered flow)
+//   → Dirac matrix 𝔼(ρ) (4V×4V, symmetric PSD), λ = smallest eigenvector (shifted inverse iteration)
+//   → transformed edges ẽ, divergence ω, pinned Poisson solve L x̃ = ω
+//   → centre on the area-weighted centroid, scale to area 4π.
+// A step is rejected (τ halved, down to min_tau) if the energy rises by more than energy_increase_tolerance, the
+// eigen-residual stays above max_eigen_residual, or anything turns non-finite. The flow stops when the roundness
+// falls below roundness_tolerance (converged), the relative energy decrease falls below energy_tolerance
+// (plateau, also a stop), or at max_steps (NotConverged, failed_check "roundness").
+// Symbolic factorisations (Dirac, pinned L, filter) are done once per call; numeric ones once per step.
+
+#include "core/common/deadline.hpp"
+#include "core/mesh/mesh.hpp"
+#include "core/spherical_map/flow_result.hpp"
+#include "core/spherical_map/spherical_map.hpp"
+
+namespace wish::spherical {
+
+FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver,
+                         const Deadline& deadline = {});
+
+}  // namespace wish::spherical

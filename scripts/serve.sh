@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds `wish`, and starts the HTTP service on the bundled default model
+# (data/models/default.json — trained on a SYNTHETIC demo set, see data/models/README.md).
+#   PORT=8080 WISH_MODELS=data/models bash scripts/serve.sh [extra `wish serve` flags]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+port=${PORT:-8080}
+models=${WISH_MODELS:-data/models}
+
+bash scripts/install-deps.sh
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j "$(nproc)" --target wish
+
+example=data/meshes/nucleus-example.obj
+[[ -f $example ]] || example=$(ls data/meshes/*.off | head -n 1)
+cat <<MSG
+
+WISH is starting on http://127.0.0.1:${port} with the models in ${models}/.
+Classify a bundled example mesh from another terminal:
+
+  curl -s -F mesh=@${PWD}/${example} http://127.0.0.1:${port}/v1/classify
+
+MSG
+exec build/release/cli/wish serve --models "$models" --port "$port" "$@"

@@ -1,0 +1,58 @@
+#include "server/config.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <thread>
+
+#include "core/common/errors.hpp"
+
+namespace wish::server {
+
+namespace {
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InvalidInputError("bad_config", "invalid server configuration: " + what);
+}
+}  // namespace
+
+void ServerConfig::finalize() {
+  if (workers <= 0) workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (http_threads <= 0) http_threads = workers + queue_size + 8;
+  require(port >= 0 && port <= 65535, "port must be in 0..65535");
+  require(max_upload_bytes > 0, "max upload bytes must be > 0");
+  require(max_vertices > 0 && max_faces > 0, "vertex and face limits must be > 0");
+  require(max_lmax >= 1 && max_lmax <= 200, "max Lmax must be in 1..200");
+  require(max_parts >= 1, "max parts must be >= 1");
+  require(max_steps >= 1, "max steps must be >= 1");
+  require(time_limit_seconds > 0, "time limit must be > 0");
+  require(queue_size >= 0, "queue size must be >= 0");
+  require(workers <= 1024 && http_threads <= 4096, "too many threads");
+  require(shutdown_grace_seconds >= 0, "grace period must be >= 0");
+  require(retry_after_seconds >= 1, "retry-after must be >= 1");
+  require(!models_dir.empty(), "a models directory is required (--models / WISH_MODELS)");
+}
+
+std::string ServerConfig::describe() const {
+  std::ostringstream out;
+  out << "host = " << host << "\n"
+      << "port = " << port << "\n"
+      << "models_dir = " << models_dir.string() << "\n"
+      << "default_model = " << default_model << "\n"
+      << "max_upload_bytes = " << max_upload_bytes << "\n"
+      << "max_vertices = " << max_vertices << "\n"
+      << "max_faces = " << max_faces << "\n"
+      << "max_lmax = " << max_lmax << "\n"
+      << "max_parts = " << max_parts << "\n"
+      << "max_steps = " << max_steps << "\n"
+      << "time_limit_seconds = " << time_limit_seconds << "\n"
+      << "queue_size = " << queue_size << "\n"
+      << "workers = " << workers << "\n"
+      << "http_threads = " << http_threads << "\n"
+      << "shutdown_grace_seconds = " << shutdown_grace_seconds << "\n"
+      << "retry_after_seconds = " << retry_after_seconds << "\n"
+      << "auth = " << (auth_token.empty() ? "off" : "bearer token (set)") << "\n"
+      << "json_log = " << (json_log ? "true" : "false") << "\n"
+      << "log_level = " << log_level;
+  return out.str();
+}
+
+}  // namespace wish::server

@@ -1,0 +1,43 @@
+#pragma once
+// Effective configuration of `wish serve`. Every limit has a flag and an environment variable (bound in
+// cli/cmd_serve.cpp; flag wins over environment, environment over the default here) and is printed at start.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace wish::server {
+
+struct ServerConfig {
+  std::string host = "127.0.0.1";            // listen address (WISH_HOST)
+  int port = 8080;                           // 0: pick a free port (logged)
+  std::filesystem::path models_dir;          // *.json model files, loaded at start and on SIGHUP / admin reload
+  std::string default_model = "default";     // used when a classify request names none (else: the only model)
+
+  // Limits (413 when exceeded).
+  std::uint64_t max_upload_bytes = 64ull << 20;  // whole request body
+  std::int64_t max_vertices = 500'000;           // per mesh
+  std::int64_t max_faces = 1'000'000;            // per mesh, after triangulation
+  int max_lmax = 40;                             // SH degree a describe request may ask for
+  int max_parts = 16;                            // mesh parts in one multipart request
+  int max_steps = 200;                           // flow step cap a request may ask for
+
+  double time_limit_seconds = 120;   // per request, from arrival (queue wait included); 504 past it
+  int queue_size = 32;               // jobs waiting for a worker; beyond: 503 + Retry-After
+  int workers = 0;                   // compute threads; 0: number of cores
+  int http_threads = 0;              // HTTP connection threads; 0: workers + queue_size + 8 (so a full queue
+                                     // is answered with 503 instead of leaving connections unserved)
+  double shutdown_grace_seconds = 30;  // SIGTERM: finish in-flight requests within this, then cancel them
+  int retry_after_seconds = 1;
+
+  std::string auth_token;            // non-empty: /v1/* requires "Authorization: Bearer <token>"
+  bool json_log = false;             // one JSON object per log line
+  std::string log_level = "info";    // trace, debug, info, warn, error
+
+  // Resolves the 0 defaults (workers, http_threads) and checks ranges; throws InvalidInputError("bad_config").
+  void finalize();
+  // Human-readable "key = value" lines; the token is masked.
+  std::string describe() const;
+};
+
+}  // namespace wish::server

@@ -1,0 +1,99 @@
+#include "server/error_mapping.hpp"
+
+#include <atomic>
+#include <new>
+
+namespace wish::server {
+
+namespace {
+std::atomic<int> g_retry_after{1};
+
+nlohmann::json details_to_json(const ErrorDetails& details) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [key, value] : details)
+    std::visit([&](const auto& v) { out[key] = v; }, value);
+  return out;
+}
+}  // namespace
+
+void set_retry_after_seconds(int seconds) { g_retry_after = seconds > 0 ? seconds : 1; }
+
+int http_status(ErrorCategory category) {
+  switch (category) {
+    case ErrorCategory::InvalidInput: return 400;
+    case ErrorCategory::UnsupportedFormat: return 415;
+    case ErrorCategory::TooLarge: return 413;
+    case ErrorCategory::Unmappable: return 422;
+    case ErrorCategory::NotFound: return 404;
+    case ErrorCategory::Timeout: return 504;
+    case ErrorCategory::Unavailable: return 503;
+    case ErrorCategory::Internal: return 500;
+  }
+  return 500;
+}
+
+ApiError to_api_error(const WishError& error) {
+  ApiError out;
+  out.status = http_status(error.category());
+  out.code = error.code().empty() ? to_string(error.category()) : error.code();
+  out.message = error.what();
+  out.details = details_to_json(error.details());
+  if (out.status == 503) out.retry_after_seconds = g_retry_after.load();
+  return out;
+}
+
+ApiError to_api_error(std::exception_ptr error) {
+  try {
+    if (error) std::rethrow_exception(error);
+  } catch (const WishError& e) {
+    return to_api_error(e);
+  } catch (const std::bad_alloc&) {
+    // Out of memory is a capacity problem of this server, not a bug in the request: ask the client to retry.
+    return {503, "out_of_memory", "the server ran out of memory for this request", nlohmann::json::object(),
+            g_retry_after.load()};
+  } catch (const nlohmann::json::exception& e) {
+    return {500, "internal", std::string("internal error while encoding JSON: ") + e.what(), nlohmann::json::object(), 0};
+  } catch (const std::exception& e) {
+    return {500, "internal", std::string("internal error: ") + e.what(), nlohmann::json::object(), 0};
+  } catch (...) {
+  }
+  return {500, "internal", "internal error (unknown exception)", nlohmann::json::object(), 0};
+}
+
+ApiError unauthorized_error() {
+  return {401, "unauthorized", "missing or wrong bearer token (Authorization: Bearer <token>)",
+          nlohmann::json::object(), 0};
+}
+
+ApiError route_not_found_error(const std::string& method, const std::string& path) {
+  return {404, "not_found", "no route " + method + " " + path, {{"method", method}, {"path", path}}, 0};
+}
+
+ApiError status_error(int status) {
+  switch (status) {
+    case 413:
+      return {413, "payload_too_large", "the request body exceeds the upload limit", nlohmann::json::object(), 0};
+    case 414:
+      return {414, "uri_too_long", "the request URI is too long", nlohmann::json::object(), 0};
+    case 405:
+      return {405, "method_not_allowed", "method not allowed on this route", nlohmann::json::object(), 0};
+    case 404:
+      return {404, "not_found", "no such route", nlohmann::json::object(), 0};
+    case 503:
+      return {503, "unavailable", "service unavailable", nlohmann::json::object(), g_retry_after.load()};
+    default:
+      break;
+  }
+  if (status >= 500) return {status, "internal", "internal error", nlohmann::json::object(), 0};
+  return {status, "bad_request", "the request could not be read (framing, headers or body)", nlohmann::json::object(), 0};
+}
+
+nlohmann::json error_object(const ApiError& error) {
+  return {{"code", error.code}, {"message", error.message}, {"details", error.details}};
+}
+
+nlohmann::json error_body(const ApiError& error, const std::string& request_id) {
+  return {{"error", error_object(error)}, {"request_id", request_id}};
+}
+
+}  // namespace wish::server

@@ -1,0 +1,151 @@
+#include "server/request_parsing.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <set>
+
+#include "core/common/errors.hpp"
+
+namespace wish::server {
+
+namespace {
+
+[[noreturn]] void bad_parameter(const std::string& name, const std::string& message, const std::string& value) {
+  throw InvalidInputError("bad_parameter", message, {{"parameter", name}, {"value", value}});
+}
+
+int parse_int(const std::string& name, const std::string& value, int lo, int hi) {
+  int out = 0;
+  const char* end = value.data() + value.size();
+  const auto [ptr, ec] = std::from_chars(value.data(), end, out);
+  if (value.empty() || ec != std::errc() || ptr != end)
+    bad_parameter(name, "parameter " + name + "='" + value + "' is not an integer", value);
+  if (out < lo || out > hi)
+    bad_parameter(name, "parameter " + name + "=" + value + " is outside " + std::to_string(lo) + ".." +
+                            std::to_string(hi), value);
+  return out;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+}  // namespace
+
+ComputeParams parse_compute_params(Operation op, const ParamMap& params, const ServerConfig& config) {
+  static const std::set<std::string> known_describe{"lmax", "method", "steps", "include", "reconstruction_level",
+                                                    "format"};
+  ComputeParams out;
+  std::set<std::string> seen;
+  for (const auto& [name, raw] : params) {
+    const std::string value = trim(raw);
+    const bool known = known_describe.count(name) || (op == Operation::Classify && name == "model");
+    if (!known)
+      throw InvalidInputError("bad_parameter", "unknown parameter '" + name + "'" +
+                                                   (name == "model" ? " (only /v1/classify takes a model)" : ""),
+                              {{"parameter", name}});
+    if (!seen.insert(name).second)
+      throw InvalidInputError("bad_parameter", "parameter '" + name + "' given more than once", {{"parameter", name}});
+    if (name == "model") {
+      if (value.empty()) bad_parameter(name, "parameter model is empty", value);
+      out.model = value;
+    } else if (name == "lmax") {
+      // Lmax above the configured limit is a size problem (413), below 1 a bad parameter (400).
+      const int lmax = parse_int(name, value, 1, 100000);
+      if (lmax > config.max_lmax)
+        throw LimitExceededError("lmax=" + value + " exceeds the server's limit of " + std::to_string(config.max_lmax),
+                                 {{"limit", std::string("lmax")}, {"value", std::int64_t{lmax}},
+                                  {"allowed", std::int64_t{config.max_lmax}}});
+      out.lmax = lmax;
+    } else if (name == "method") {
+      const std::string m = lower(value);
+      if (m != "willmore" && m != "cmcf") bad_parameter(name, "method must be willmore or cmcf, not '" + value + "'", value);
+      out.method = m;
+    } else if (name == "steps") {
+      const int steps = parse_int(name, value, 1, 1000000);
+      if (steps > config.max_steps)
+        throw LimitExceededError("steps=" + value + " exceeds the server's limit of " + std::to_string(config.max_steps),
+                                 {{"limit", std::string("steps")}, {"value", std::int64_t{steps}},
+                                  {"allowed", std::int64_t{config.max_steps}}});
+      out.steps = steps;
+    } else if (name == "include") {
+      out.include_coefficients = out.include_invariants = out.include_quality = out.include_reconstruction = false;
+      std::size_t start = 0;
+      while (start <= value.size()) {
+        const auto comma = value.find(',', start);
+        const std::string item = lower(trim(value.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+        if (item == "coefficients") out.include_coefficients = true;
+        else if (item == "invariants") out.include_invariants = true;
+        else if (item == "quality") out.include_quality = true;
+        else if (item == "reconstruction") out.include_reconstruction = true;
+        else if (!item.empty())
+          bad_parameter(name, "include item '" + item + "' is not one of coefficients, invariants, quality, reconstruction",
+                        value);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
+    } else if (name == "reconstruction_level") {
+      out.reconstruction_level = parse_int(name, value, 0, 7);
+    } else if (name == "format") {
+      const std::string f = lower(value);
+      if (f != "obj" && f != "ply" && f != "off" && f != "stl")
+        bad_parameter(name, "format must be obj, ply, off or stl, not '" + value + "'", value);
+      out.format = f;
+    }
+  }
+  return out;
+}
+
+std::vector<MeshPart> split_multipart(std::vector<FormPart> parts, ParamMap& params, const ServerConfig& config) {
+  std::vector<MeshPart> meshes;
+  for (auto& part : parts) {
+    const bool is_mesh = !part.filename.empty() || starts_with(part.name, "mesh") || starts_with(part.name, "file");
+    if (!is_mesh) {
+      if (params.count(part.name))
+        throw InvalidInputError("bad_parameter", "parameter '" + part.name + "' given both in the query and the form",
+                                {{"parameter", part.name}});
+      params.emplace(part.name, part.content);
+      continue;
+    }
+    if (static_cast<int>(meshes.size()) >= config.max_parts)
+      throw WishError(ErrorCategory::TooLarge, "too_many_parts",
+                      "more than " + std::to_string(config.max_parts) + " mesh parts in one request",
+                      {{"limit", std::string("parts")}, {"allowed", std::int64_t{config.max_parts}}});
+    meshes.push_back({part.name, part.filename, part.content_type,
+                      std::make_shared<const std::string>(std::move(part.content))});
+  }
+  if (meshes.empty())
+    throw InvalidInputError("no_mesh", "the multipart request has no mesh part (send a file part, e.g. curl -F mesh=@cell.ply)");
+  return meshes;
+}
+
+MeshPart raw_body_part(std::string body, const std::string& content_type) {
+  const std::string type = lower(trim(content_type.substr(0, content_type.find(';'))));
+  if (type == "application/x-www-form-urlencoded" || type == "application/json")
+    throw WishError(ErrorCategory::UnsupportedFormat, "unsupported_media_type",
+                    "Content-Type " + type + " is not a mesh; send the file bytes with a mesh or octet-stream type "
+                    "(curl --data-binary @m.ply -H 'Content-Type: application/octet-stream') or as multipart (curl -F mesh=@m.ply)",
+                    {{"content_type", type}});
+  if (body.empty()) throw InvalidInputError("no_mesh", "the request body is empty; send a mesh file");
+  return {"", "", type, std::make_shared<const std::string>(std::move(body))};
+}
+
+std::string format_hint(const ComputeParams& params, const MeshPart& part) {
+  if (!params.format.empty()) return params.format;
+  const auto dot = part.filename.rfind('.');
+  if (dot != std::string::npos) return lower(part.filename.substr(dot + 1));
+  return part.content_type;
+}
+
+}  // namespace wish::server

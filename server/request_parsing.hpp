@@ -1,0 +1,60 @@
+#pragma once
+// Turning HTTP request pieces (query/form parameters, body, multipart parts) into typed compute parameters.
+// Eigen-free and httplib-free: the HTTP file hands plain strings in. Every refusal is a WishError with a precise
+// code, mapped to a status in error_mapping.cpp: bad_parameter (400), limit_exceeded / too_many_parts (413),
+// unsupported_media_type (415), no_mesh (400).
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "server/config.hpp"
+
+namespace wish::server {
+
+enum class Operation { Describe, Classify };
+
+struct ComputeParams {
+  std::string model;                  // classify: "" -> the default model
+  std::optional<int> lmax;            // explicit descriptor settings (absent: default or the model's)
+  std::optional<std::string> method;  // "willmore" | "cmcf"
+  std::optional<int> steps;
+  bool include_coefficients = false;
+  bool include_invariants = true;
+  bool include_quality = true;
+  bool include_reconstruction = false;
+  int reconstruction_level = 3;
+  std::string format;                 // "obj" | "ply" | "off" | "stl" | "" (hint only; content detection wins)
+  bool explicit_descriptor() const { return lmax || method || steps; }
+};
+
+using ParamMap = std::multimap<std::string, std::string>;
+
+// Unknown or repeated parameters are refused (a typo such as "lamx" must not be silently ignored).
+ComputeParams parse_compute_params(Operation op, const ParamMap& params, const ServerConfig& config);
+
+// One mesh to compute: the raw body, or one part of a multipart body.
+struct MeshPart {
+  std::string field;         // form field name ("" for a raw body)
+  std::string filename;      // from the part's Content-Disposition, or ""
+  std::string content_type;  // the part's or the request's Content-Type
+  std::shared_ptr<const std::string> bytes;  // shared: a job may outlive the HTTP thread that waited for it
+};
+
+struct FormPart {
+  std::string name, filename, content_type, content;
+};
+
+// Multipart: parts with a filename, or named mesh* / file*, are meshes; other parts are parameters (merged into
+// `params`; a parameter given both in the query and the form is refused). Throws no_mesh / too_many_parts.
+std::vector<MeshPart> split_multipart(std::vector<FormPart> parts, ParamMap& params, const ServerConfig& config);
+
+// Raw body: refuses form-encoded and JSON bodies (415) and empty bodies (400).
+MeshPart raw_body_part(std::string body, const std::string& content_type);
+
+// A format hint from ?format=, the part's file name extension, or the Content-Type; "" when none.
+std::string format_hint(const ComputeParams& params, const MeshPart& part);
+
+}  // namespace wish::server

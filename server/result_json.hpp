@@ -1,0 +1,26 @@
+#pragma once
+// PipelineResult -> the DescribeResult JSON of proto/openapi.json (mesh, map, descriptor, prediction,
+// reconstruction, timings). Includes Eigen through pipeline.hpp: never include from an http_*.cpp file.
+// (cli/descriptor_json.{hpp,cpp} encodes descriptors for the CLI; the two should be merged once both settle.)
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/pipeline/pipeline.hpp"
+
+namespace wish::server {
+
+struct ResultJsonOptions {
+  bool coefficients = false, invariants = true, quality = true, reconstruction = false;
+  int reconstruction_level = 3;
+  std::string filename;                     // "" when the mesh came as a raw body
+  std::size_t bytes = 0;                    // size of the uploaded mesh
+  nlohmann::json settings;                  // DescriptorSettingsUsed: source, lmax, method, steps, ...
+  std::string model_name, model_version;    // for the prediction block
+};
+
+nlohmann::json mesh_report_json(const MeshReport& report);
+nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions& options);
+
+}  // namespace wish::server

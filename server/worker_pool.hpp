@@ -1,0 +1,54 @@
+#pragma once
+// Compute workers behind a bounded job queue, separate from the HTTP threads: an HTTP thread parses the request,
+// submits the work here and waits; when the queue is full the submit fails at once so the client gets a 503
+// instead of a hang. Each worker limits OpenMP and BLAS to one thread (thread_limits.hpp) so that `workers`
+// requests in parallel use `workers` cores and the machine is not oversubscribed.
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace wish::server {
+
+class WorkerPool {
+ public:
+  using Job = std::function<void()>;  // must not throw (compute jobs catch everything themselves)
+
+  WorkerPool(int workers, int queue_capacity);
+  ~WorkerPool();  // shutdown()
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  // All or nothing: queues every job, or none when they do not all fit (or after shutdown). Jobs taken by an idle
+  // worker at once still count against the capacity until a worker picks them up, so capacity 0 means "only
+  // when a worker is free".
+  bool try_submit(std::vector<Job> jobs);
+
+  // Runs every queued job, then joins the workers. Idempotent.
+  void shutdown();
+
+  std::size_t queue_depth() const;
+  int busy_workers() const;
+  int workers() const { return worker_count_; }
+  std::size_t capacity() const { return capacity_; }
+  bool accepting() const;  // not shut down and at least one free slot
+
+ private:
+  void run();
+
+  std::size_t capacity_;
+  int worker_count_ = 0;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<Job> queue_;
+  int busy_ = 0;
+  int idle_ = 0;
+  bool stopping_ = false;
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace wish::server
