@@ -15,7 +15,7 @@ runtime_build=(
 test_extra=(
   clang libclang-rt-14-dev
   python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
-  assimp-testmodels nginx-light wrk yamllint
+  assimp-testmodels nginx-light wrk yamllint python3-yaml
 )
 
 want=("${runtime_build[@]}")

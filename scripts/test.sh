@@ -42,7 +42,7 @@ bash scripts/lint-deploy.sh
 
 step "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|python" --timeout 900
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|python" -E "Sweep|Slow" --timeout 900
 
 step "release tests"
 ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 1200

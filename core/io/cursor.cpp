@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cstdlib>
 
 #include "core/common/errors.hpp"
 
@@ -47,7 +48,14 @@ bool parse_double(std::string_view token, double& value) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);  // from_chars refuses a leading '+'
   if (token.empty()) return false;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-  return ec == std::errc() && end == token.data() + token.size();
+  if (end != token.data() + token.size()) return false;
+  if (ec == std::errc::result_out_of_range) {
+    // "1e999" / "1e-999": well-formed but not representable. strtod gives +-HUGE_VAL (then reported as non-finite)
+    // or the underflowed value, which is what the number means.
+    value = std::strtod(std::string(token).c_str(), nullptr);
+    return true;
+  }
+  return ec == std::errc();
 }
 
 bool parse_int64(std::string_view token, std::int64_t& value) {

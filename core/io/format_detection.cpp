@@ -121,7 +121,7 @@ MeshFormat detect_format(std::string_view bytes, MeshFormat hint) {
     if (starts_with_keyword(bytes, "solid")) candidates.push_back(MeshFormat::Stl);
     if (is_obj_keyword(token)) candidates.push_back(MeshFormat::Obj);
     if (binary_stl_size) candidates.push_back(MeshFormat::Stl);
-  } else if (starts_with_keyword(bytes, "solid") || (bytes.size() >= 84 && hint == MeshFormat::Stl)) {
+  } else if (bytes.substr(0, 5) == "solid" || (bytes.size() >= 84 && hint == MeshFormat::Stl)) {
     // Binary content that is not a well-formed binary STL: most likely a truncated or padded one; the STL reader
     // reports exactly what is wrong with it.
     candidates.push_back(MeshFormat::Stl);

@@ -33,6 +33,8 @@ ReadResult read_mesh(std::string_view bytes, const ReadOptions& options) {
                            "the input is too large");
   refuse_wide_text(bytes);
   if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);  // UTF-8 byte order mark
+  if (bytes.find_first_not_of(" \t\r\n\v\f") == std::string_view::npos)
+    throw InvalidInputError("empty_mesh", "the input is empty", {{"bytes", static_cast<std::int64_t>(bytes.size())}});
   const MeshFormat format = detect_format(bytes, options.hint);
   ReadResult result;
   switch (format) {

@@ -140,6 +140,7 @@ ReadResult read_ply(std::string_view bytes, const ReadLimits& limits) {
   MeshEncoding encoding = MeshEncoding::Ascii;
   bool have_format = false, have_end = false;
   std::vector<Element> elements;
+  std::int64_t unknown_header_lines = 0, first_unknown_line = 0;
   while (!have_end && lines.next_line(line)) {
     Tokens tokens(line);
     std::string_view keyword, token;
@@ -180,7 +181,9 @@ ReadResult read_ply(std::string_view bytes, const ReadLimits& limits) {
     } else if (keyword == "end_header") {
       have_end = true;
     } else {
-      lines.fail("unknown header keyword \"" + std::string(keyword.substr(0, 40)) + "\"");
+      // Some exporters write free text into the header (Blender 2.47: "Created by ..."); it declares nothing, so it
+      // is skipped, and said so.
+      if (unknown_header_lines++ == 0) first_unknown_line = lines.line_number();
     }
   }
   if (!have_end) lines.fail("the header has no end_header line");
@@ -246,6 +249,9 @@ ReadResult read_ply(std::string_view bytes, const ReadLimits& limits) {
   ReadResult result;
   result.encoding = encoding;
   result.mesh = builder.finish(result.notes);
+  if (unknown_header_lines > 0)
+    result.notes.push_back("ignored " + with_commas(unknown_header_lines) + " unrecognised PLY header lines (first: line " +
+                           std::to_string(first_unknown_line) + ")");
   if (!skipped.empty()) {
     std::string note = "ignored PLY elements:";
     for (const auto& s : skipped) note += " " + s;

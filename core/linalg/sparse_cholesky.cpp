@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <stdexcept>
+#include <type_traits>
 
 #include <Eigen/SparseCholesky>
 
@@ -18,19 +19,25 @@ const char* to_string(CholeskyBackend backend) {
 
 namespace {
 
+template <class Scalar>
+constexpr int cholmod_xtype() {
+  return std::is_same_v<Scalar, double> ? CHOLMOD_REAL : CHOLMOD_COMPLEX;  // complex: interleaved (re, im)
+}
+
 // A no-copy CHOLMOD view of an Eigen compressed column-major matrix; stype −1: the lower triangle is used and any
 // upper-triangle entries are ignored.
-cholmod_sparse view_lower(const Eigen::SparseMatrix<double>& a) {
+template <class Scalar>
+cholmod_sparse view_lower(const Eigen::SparseMatrix<Scalar>& a) {
   cholmod_sparse s{};
   s.nrow = static_cast<size_t>(a.rows());
   s.ncol = static_cast<size_t>(a.cols());
   s.nzmax = static_cast<size_t>(a.nonZeros());
   s.p = const_cast<int*>(a.outerIndexPtr());
   s.i = const_cast<int*>(a.innerIndexPtr());
-  s.x = const_cast<double*>(a.valuePtr());
+  s.x = const_cast<Scalar*>(a.valuePtr());
   s.stype = -1;
   s.itype = CHOLMOD_INT;
-  s.xtype = CHOLMOD_REAL;
+  s.xtype = cholmod_xtype<Scalar>();
   s.dtype = CHOLMOD_DOUBLE;
   s.sorted = 1;
   s.packed = 1;
@@ -39,13 +46,34 @@ cholmod_sparse view_lower(const Eigen::SparseMatrix<double>& a) {
 
 }  // namespace
 
-struct SparseCholesky::Impl {
+std::vector<int> metis_ordering(const Eigen::SparseMatrix<double>& pattern) {
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  cholmod_sparse s = view_lower(pattern);
+  s.xtype = CHOLMOD_PATTERN;
+  std::vector<int> perm(static_cast<size_t>(pattern.rows()));
+  const int ok = cholmod_metis(&s, nullptr, 0, 1, perm.data(), &c);
+  cholmod_finish(&c);
+  if (!ok) perm.clear();
+  return perm;
+}
+
+std::vector<int> expand_ordering(const std::vector<int>& perm, int block) {
+  std::vector<int> out(perm.size() * static_cast<size_t>(block));
+  for (size_t k = 0; k < perm.size(); ++k)
+    for (int r = 0; r < block; ++r) out[k * static_cast<size_t>(block) + static_cast<size_t>(r)] = block * perm[k] + r;
+  return out;
+}
+
+template <class Scalar>
+struct SparseCholeskyT<Scalar>::Impl {
   // CHOLMOD
   cholmod_common common{};
   cholmod_factor* factor = nullptr;
   bool started = false;
   // Eigen
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Scalar>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
   Eigen::Index n = 0;
 
   ~Impl() {
@@ -56,7 +84,8 @@ struct SparseCholesky::Impl {
   }
 };
 
-SparseCholesky::SparseCholesky(CholeskyOptions options) : options_(options), impl_(std::make_unique<Impl>()) {
+template <class Scalar>
+SparseCholeskyT<Scalar>::SparseCholeskyT(CholeskyOptions options) : options_(std::move(options)), impl_(std::make_unique<Impl>()) {
   if (options_.backend == CholeskyBackend::Cholmod) {
     cholmod_start(&impl_->common);
     impl_->started = true;
@@ -66,12 +95,19 @@ SparseCholesky::SparseCholesky(CholeskyOptions options) : options_(options), imp
                                : options_.cholmod_mode == CholmodMode::Simplicial ? CHOLMOD_SIMPLICIAL
                                                                                   : CHOLMOD_AUTO;
     impl_->common.final_ll = 1;  // simplicial path: keep LLᵀ (as supernodal), so failures mean "not definite"
+    if (!options_.permutation.empty()) {
+      impl_->common.nmethods = 1;
+      impl_->common.method[0].ordering = CHOLMOD_GIVEN;
+      impl_->common.postorder = 1;
+    }
   }
 }
 
-SparseCholesky::~SparseCholesky() = default;
+template <class Scalar>
+SparseCholeskyT<Scalar>::~SparseCholeskyT() = default;
 
-bool SparseCholesky::analyze(const Eigen::SparseMatrix<double>& a) {
+template <class Scalar>
+bool SparseCholeskyT<Scalar>::analyze(const Matrix& a) {
   analyzed_ = factorized_ = false;
   message_.clear();
   if (a.rows() != a.cols() || !a.isCompressed()) {
@@ -84,7 +120,10 @@ bool SparseCholesky::analyze(const Eigen::SparseMatrix<double>& a) {
   } else {
     if (impl_->factor) cholmod_free_factor(&impl_->factor, &impl_->common);
     cholmod_sparse s = view_lower(a);
-    impl_->factor = cholmod_analyze(&s, &impl_->common);
+    if (!options_.permutation.empty() && options_.permutation.size() == static_cast<size_t>(a.rows()))
+      impl_->factor = cholmod_analyze_p(&s, options_.permutation.data(), nullptr, 0, &impl_->common);
+    else
+      impl_->factor = cholmod_analyze(&s, &impl_->common);
     if (!impl_->factor || impl_->common.status < CHOLMOD_OK) {
       message_ = "CHOLMOD symbolic analysis failed (status " + std::to_string(impl_->common.status) + ")";
       return false;
@@ -94,7 +133,8 @@ bool SparseCholesky::analyze(const Eigen::SparseMatrix<double>& a) {
   return true;
 }
 
-bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a, double shift) {
+template <class Scalar>
+bool SparseCholeskyT<Scalar>::factorize(const Matrix& a, double shift) {
   if (!analyzed_ && !analyze(a)) return false;
   factorized_ = false;
   message_.clear();
@@ -109,7 +149,7 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a, double shif
       message_ = "Eigen SimplicialLDLT: zero pivot (matrix singular)";
       return false;
     }
-    const double dmin = impl_->ldlt.vectorD().minCoeff();
+    const double dmin = impl_->ldlt.vectorD().real().minCoeff();
     if (!(dmin > 0)) {
       message_ = "Eigen SimplicialLDLT: matrix not positive definite (min pivot " + std::to_string(dmin) + ")";
       return false;
@@ -129,7 +169,8 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a, double shif
   return true;
 }
 
-Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
+template <class Scalar>
+typename SparseCholeskyT<Scalar>::Dense SparseCholeskyT<Scalar>::solve(const Dense& b) const {
   if (!factorized_) throw std::logic_error("SparseCholesky::solve without a successful factorisation");
   if (options_.backend == CholeskyBackend::EigenSimplicial) return impl_->ldlt.solve(b);
   cholmod_dense db{};
@@ -137,24 +178,34 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
   db.ncol = static_cast<size_t>(b.cols());
   db.nzmax = db.nrow * db.ncol;
   db.d = db.nrow;
-  db.x = const_cast<double*>(b.data());
-  db.xtype = CHOLMOD_REAL;
+  db.x = const_cast<Scalar*>(b.data());
+  db.xtype = cholmod_xtype<Scalar>();
   db.dtype = CHOLMOD_DOUBLE;
   cholmod_dense* x = cholmod_solve(CHOLMOD_A, impl_->factor, &db, &impl_->common);
   if (!x) throw std::runtime_error("CHOLMOD solve failed (status " + std::to_string(impl_->common.status) + ")");
-  Eigen::MatrixXd out = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), b.rows(), b.cols());
+  Dense out = Eigen::Map<const Dense>(static_cast<const Scalar*>(x->x), b.rows(), b.cols());
   cholmod_free_dense(&x, &impl_->common);
   return out;
 }
 
-double SparseCholesky::factor_nonzeros() const {
+template <class Scalar>
+double SparseCholeskyT<Scalar>::factor_nonzeros() const {
   if (options_.backend == CholeskyBackend::EigenSimplicial)
     return factorized_ ? static_cast<double>(impl_->ldlt.matrixL().nestedExpression().nonZeros()) : 0.0;
   return impl_->started ? impl_->common.lnz : 0.0;
 }
 
-bool SparseCholesky::is_supernodal() const {
+template <class Scalar>
+double SparseCholeskyT<Scalar>::factor_flops() const {
+  return options_.backend == CholeskyBackend::Cholmod && impl_->started ? impl_->common.fl : 0.0;
+}
+
+template <class Scalar>
+bool SparseCholeskyT<Scalar>::is_supernodal() const {
   return options_.backend == CholeskyBackend::Cholmod && impl_->factor && impl_->factor->is_super;
 }
+
+template class SparseCholeskyT<double>;
+template class SparseCholeskyT<std::complex<double>>;
 
 }  // namespace wish::linalg

@@ -14,8 +14,10 @@
 // Input matrices: square, compressed column-major, both triangles stored or only the lower one (the lower triangle
 // is what is read). Not thread-safe per object; separate objects may be used from separate threads.
 
+#include <complex>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -29,23 +31,36 @@ const char* to_string(CholeskyBackend backend);
 
 struct CholeskyOptions {
   CholeskyBackend backend = CholeskyBackend::Cholmod;
-  CholmodMode cholmod_mode = CholmodMode::Auto;  // CHOLMOD only: supernodal pays off for large fill (Dirac 4V×4V)
+  CholmodMode cholmod_mode = CholmodMode::Auto;  // CHOLMOD only: supernodal pays off for large fill (Dirac)
+  // Fill-reducing ordering given by the caller (CHOLMOD only; empty: CHOLMOD's default AMD/METIS choice). Used to
+  // expand a METIS ordering of the V×V vertex graph to a blocked 2V/4V matrix without re-ordering the big graph.
+  std::vector<int> permutation;
 };
 
-class SparseCholesky {
+// METIS nested-dissection ordering of a symmetric pattern (lower triangle read), through CHOLMOD; empty on failure.
+std::vector<int> metis_ordering(const Eigen::SparseMatrix<double>& pattern);
+// Expands an ordering of n block rows to one of n·block rows (row b·k + r for block k).
+std::vector<int> expand_ordering(const std::vector<int>& perm, int block);
+
+// Scalar: double (real symmetric) or std::complex<double> (Hermitian; the lower triangle is read).
+template <class Scalar>
+class SparseCholeskyT {
  public:
-  explicit SparseCholesky(CholeskyOptions options = {});
-  ~SparseCholesky();
-  SparseCholesky(const SparseCholesky&) = delete;
-  SparseCholesky& operator=(const SparseCholesky&) = delete;
+  using Matrix = Eigen::SparseMatrix<Scalar>;
+  using Dense = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+
+  explicit SparseCholeskyT(CholeskyOptions options = {});
+  ~SparseCholeskyT();
+  SparseCholeskyT(const SparseCholeskyT&) = delete;
+  SparseCholeskyT& operator=(const SparseCholeskyT&) = delete;
 
   // Symbolic analysis of the pattern of `a`. Returns false on failure (message() says why).
-  bool analyze(const Eigen::SparseMatrix<double>& a);
+  bool analyze(const Matrix& a);
   // Numeric factorisation of a + shift·I; `a` must have the pattern given to analyze() (analyzes first if none).
-  bool factorize(const Eigen::SparseMatrix<double>& a, double shift = 0.0);
+  bool factorize(const Matrix& a, double shift = 0.0);
   // x = (a + shift·I)⁻¹ b for every column of b; requires a successful factorize(). Throws std::logic_error
   // otherwise.
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+  Dense solve(const Dense& b) const;
 
   bool analyzed() const { return analyzed_; }
   bool factorized() const { return factorized_; }
@@ -54,6 +69,7 @@ class SparseCholesky {
   // Non-zeros of the factor (after the last successful factorize), for reports.
   double factor_nonzeros() const;
   bool is_supernodal() const;
+  double factor_flops() const;  // CHOLMOD's flop count of the last factorisation (0 for Eigen)
 
  private:
   struct Impl;
@@ -63,5 +79,8 @@ class SparseCholesky {
   bool factorized_ = false;
   std::string message_;
 };
+
+using SparseCholesky = SparseCholeskyT<double>;
+using ComplexSparseCholesky = SparseCholeskyT<std::complex<double>>;
 
 }  // namespace wish::linalg

@@ -6,16 +6,41 @@
 #include "core/spherical_map/quaternion.hpp"
 
 namespace wish::spherical {
+namespace {
 
-DiracPattern build_dirac_pattern(const geometry::VertexPattern& vertex_pattern) {
+using Complex = std::complex<double>;
+
+// Adds the block of left multiplication by q at b (column c at b + c·stride).
+inline void add_block(double* b, int stride, const Quaternion& q) {
+  b[0] += q.w, b[1] += q.x, b[2] += q.y, b[3] += q.z;
+  b += stride;
+  b[0] -= q.x, b[1] += q.w, b[2] += q.z, b[3] -= q.y;
+  b += stride;
+  b[0] -= q.y, b[1] -= q.z, b[2] += q.w, b[3] += q.x;
+  b += stride;
+  b[0] -= q.z, b[1] += q.y, b[2] -= q.x, b[3] += q.w;
+}
+
+inline void add_block(Complex* b, int stride, const Quaternion& q) {
+  const Complex z1(q.w, q.x), z2(q.y, -q.z);
+  b[0] += z1, b[1] += z2;
+  b += stride;
+  b[0] -= std::conj(z2), b[1] += std::conj(z1);
+}
+
+}  // namespace
+
+template <class Scalar>
+DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_pattern) {
+  constexpr int B = DiracPatternT<Scalar>::kBlock;
   const Eigen::SparseMatrix<double>& p = vertex_pattern.pattern;
   const int n = static_cast<int>(p.rows());
   const long nnz = p.nonZeros();
-  DiracPattern out;
-  Eigen::SparseMatrix<double>& m = out.matrix;
-  m.resize(4 * n, 4 * n);
-  m.reserve(16 * nnz);
-  m.resizeNonZeros(16 * nnz);
+  DiracPatternT<Scalar> out;
+  Eigen::SparseMatrix<Scalar>& m = out.matrix;
+  m.resize(B * n, B * n);
+  m.reserve(B * B * nnz);
+  m.resizeNonZeros(B * B * nnz);
   out.block_base.resize(static_cast<size_t>(nnz));
   out.block_stride.resize(static_cast<size_t>(nnz));
   int* outer = m.outerIndexPtr();
@@ -23,29 +48,30 @@ DiracPattern build_dirac_pattern(const geometry::VertexPattern& vertex_pattern) 
   for (int j = 0; j < n; ++j) {
     const int begin = p.outerIndexPtr()[j], end = p.outerIndexPtr()[j + 1];
     const int count = end - begin;
-    for (int c = 0; c < 4; ++c) {
-      const int start = 16 * begin + c * 4 * count;
-      outer[4 * j + c] = start;
+    for (int c = 0; c < B; ++c) {
+      const int start = B * B * begin + c * B * count;
+      outer[B * j + c] = start;
       for (int q = begin; q < end; ++q) {
         const int i = p.innerIndexPtr()[q];
-        for (int r = 0; r < 4; ++r) inner[start + 4 * (q - begin) + r] = 4 * i + r;
+        for (int r = 0; r < B; ++r) inner[start + B * (q - begin) + r] = B * i + r;
       }
     }
     for (int q = begin; q < end; ++q) {
-      out.block_base[static_cast<size_t>(q)] = 16 * begin + 4 * (q - begin);
-      out.block_stride[static_cast<size_t>(q)] = 4 * count;
+      out.block_base[static_cast<size_t>(q)] = B * B * begin + B * (q - begin);
+      out.block_stride[static_cast<size_t>(q)] = B * count;
     }
   }
-  outer[4 * n] = static_cast<int>(16 * nnz);
-  std::fill(m.valuePtr(), m.valuePtr() + m.nonZeros(), 0.0);
+  outer[B * n] = static_cast<int>(B * B * nnz);
+  std::fill(m.valuePtr(), m.valuePtr() + m.nonZeros(), Scalar(0));
   return out;
 }
 
-double assemble_dirac(const geometry::VertexPattern& vertex_pattern, DiracPattern& pattern,
+template <class Scalar>
+double assemble_dirac(const geometry::VertexPattern& vertex_pattern, DiracPatternT<Scalar>& pattern,
                       const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces, const Eigen::VectorXd& areas,
                       const Eigen::VectorXd& rho) {
-  double* values = pattern.matrix.valuePtr();
-  std::fill(values, values + pattern.matrix.nonZeros(), 0.0);
+  Scalar* values = pattern.matrix.valuePtr();
+  std::fill(values, values + pattern.matrix.nonZeros(), Scalar(0));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const int idx[3] = {faces(f, 0), faces(f, 1), faces(f, 2)};
     const double area = areas[f];
@@ -56,37 +82,67 @@ double assemble_dirac(const geometry::VertexPattern& vertex_pattern, DiracPatter
     const auto& slot = vertex_pattern.slot[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k) {
       for (int l = 0; l < 3; ++l) {
+        // 𝔼[i_k, i_l] += −(1/(4A)) e_k e_l + (1/6)(ρ_k e_l − ρ_l e_k) + (A/9) ρ_k ρ_l
         const Quaternion q = (-1.0 / (4.0 * area)) * (e[k] * e[l]) + (1.0 / 6.0) * (r[k] * e[l] - r[l] * e[k]) +
                              Quaternion::real(area / 9.0 * r[k] * r[l]);
         const size_t s = static_cast<size_t>(slot[static_cast<size_t>(3 * k + l)]);
-        double* b = values + pattern.block_base[s];
-        const int stride = pattern.block_stride[s];
-        // Column-major write of left_block(q): column c at b + c·stride, rows 0..3.
-        b[0] += q.w, b[1] += q.x, b[2] += q.y, b[3] += q.z;
-        b += stride;
-        b[0] -= q.x, b[1] += q.w, b[2] += q.z, b[3] -= q.y;
-        b += stride;
-        b[0] -= q.y, b[1] -= q.z, b[2] += q.w, b[3] += q.x;
-        b += stride;
-        b[0] -= q.z, b[1] += q.y, b[2] -= q.x, b[3] += q.w;
+        add_block(values + pattern.block_base[s], pattern.block_stride[s], q);
       }
     }
   }
+  // Diagonal blocks are real: the (0, 0) element of each is the common diagonal value.
   double diag = 0;
-  const Eigen::Index n4 = pattern.matrix.rows();
-  for (Eigen::Index i = 0; i < n4 / 4; ++i) {
+  const Eigen::Index nv = vertex_pattern.pattern.rows();
+  for (Eigen::Index i = 0; i < nv; ++i) {
     const size_t s = static_cast<size_t>(vertex_pattern.diagonal[static_cast<size_t>(i)]);
-    diag += 4.0 * values[pattern.block_base[s]];  // diagonal blocks are real: 4 equal diagonal entries
+    diag += std::real(values[pattern.block_base[s]]);
   }
-  return diag / static_cast<double>(n4);
+  return diag / static_cast<double>(nv);
 }
+
+template DiracPatternT<double> build_dirac_pattern<double>(const geometry::VertexPattern&);
+template DiracPatternT<Complex> build_dirac_pattern<Complex>(const geometry::VertexPattern&);
+template double assemble_dirac<double>(const geometry::VertexPattern&, DiracPatternT<double>&, const Eigen::MatrixX3d&,
+                                       const Eigen::MatrixX3i&, const Eigen::VectorXd&, const Eigen::VectorXd&);
+template double assemble_dirac<Complex>(const geometry::VertexPattern&, DiracPatternT<Complex>&, const Eigen::MatrixX3d&,
+                                        const Eigen::MatrixX3i&, const Eigen::VectorXd&, const Eigen::VectorXd&);
 
 Eigen::SparseMatrix<double> dirac_matrix(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                          const Eigen::VectorXd& rho) {
   const geometry::VertexPattern vp = geometry::build_vertex_pattern(vertices.rows(), faces);
-  DiracPattern dp = build_dirac_pattern(vp);
+  DiracPattern dp = build_dirac_pattern<double>(vp);
   assemble_dirac(vp, dp, vertices, faces, geometry::face_areas(vertices, faces), rho);
   return dp.matrix;
+}
+
+Eigen::SparseMatrix<Complex> dirac_matrix_complex(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
+                                                  const Eigen::VectorXd& rho) {
+  const geometry::VertexPattern vp = geometry::build_vertex_pattern(vertices.rows(), faces);
+  ComplexDiracPattern dp = build_dirac_pattern<Complex>(vp);
+  assemble_dirac(vp, dp, vertices, faces, geometry::face_areas(vertices, faces), rho);
+  return dp.matrix;
+}
+
+Eigen::VectorXd quaternions_from_complex(const Eigen::VectorXcd& v) {
+  const Eigen::Index n = v.size() / 2;
+  Eigen::VectorXd q(4 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    q[4 * i] = v[2 * i].real();
+    q[4 * i + 1] = v[2 * i].imag();
+    q[4 * i + 2] = v[2 * i + 1].real();
+    q[4 * i + 3] = -v[2 * i + 1].imag();
+  }
+  return q;
+}
+
+Eigen::VectorXcd complex_from_quaternions(const Eigen::VectorXd& q) {
+  const Eigen::Index n = q.size() / 4;
+  Eigen::VectorXcd v(2 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    v[2 * i] = Complex(q[4 * i], q[4 * i + 1]);
+    v[2 * i + 1] = Complex(q[4 * i + 2], -q[4 * i + 3]);
+  }
+  return v;
 }
 
 }  // namespace wish::spherical

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <complex>
+#include <type_traits>
 
 #include "core/spherical_map/quaternion.hpp"
 
@@ -18,8 +20,12 @@ Quaternion lambda_at(const Eigen::VectorXd& lambda, int i) {
 
 }  // namespace
 
-EigenSolveReport smallest_eigenvector(linalg::SparseCholesky& solver, const Eigen::SparseMatrix<double>& dirac,
-                                      double mean_diagonal, const EigenSolveOptions& options, Eigen::VectorXd& x) {
+template <class Scalar>
+EigenSolveReport smallest_eigenvector(linalg::SparseCholeskyT<Scalar>& solver, const Eigen::SparseMatrix<Scalar>& dirac,
+                                      double mean_diagonal, const EigenSolveOptions& options,
+                                      Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x) {
+  using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+  constexpr int block = std::is_same_v<Scalar, double> ? 4 : 2;
   EigenSolveReport report;
   auto t0 = std::chrono::steady_clock::now();
   double shift = options.relative_shift * mean_diagonal;
@@ -41,12 +47,12 @@ EigenSolveReport smallest_eigenvector(linalg::SparseCholesky& solver, const Eige
   }
   t0 = std::chrono::steady_clock::now();
   const Eigen::Index n4 = dirac.rows();
-  x = Eigen::VectorXd::Zero(n4);
-  for (Eigen::Index i = 0; i < n4; i += 4) x[i] = 1.0;
+  x = Vector::Zero(n4);
+  for (Eigen::Index i = 0; i < n4; i += block) x[i] = Scalar(1.0);
   x.normalize();
-  Eigen::VectorXd ex;
+  Vector ex;
   for (int it = 1; it <= std::max(1, options.max_iterations); ++it) {
-    x = solver.solve(x);
+    x = solver.solve(x).col(0);
     const double norm = x.norm();
     if (!std::isfinite(norm) || norm == 0) {
       report.message = "inverse iteration produced a non-finite or zero vector";
@@ -55,7 +61,7 @@ EigenSolveReport smallest_eigenvector(linalg::SparseCholesky& solver, const Eige
     }
     x /= norm;
     ex = dirac * x;
-    const double gamma = x.dot(ex);
+    const double gamma = std::real(x.dot(ex));  // xᴴ𝔼x, real for Hermitian 𝔼
     report.iterations = it;
     report.rayleigh = gamma / mean_diagonal;
     report.residual = (ex - gamma * x).norm() / mean_diagonal;
@@ -66,6 +72,13 @@ EigenSolveReport smallest_eigenvector(linalg::SparseCholesky& solver, const Eige
   if (!report.ok) report.message = "non-finite eigen residual";
   return report;
 }
+
+template EigenSolveReport smallest_eigenvector<double>(linalg::SparseCholeskyT<double>&,
+                                                      const Eigen::SparseMatrix<double>&, double,
+                                                      const EigenSolveOptions&, Eigen::VectorXd&);
+template EigenSolveReport smallest_eigenvector<std::complex<double>>(
+    linalg::SparseCholeskyT<std::complex<double>>&, const Eigen::SparseMatrix<std::complex<double>>&, double,
+    const EigenSolveOptions&, Eigen::VectorXcd&);
 
 Eigen::MatrixX3d spin_divergence(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                  const Eigen::MatrixX3d& cot, const Eigen::VectorXd& lambda) {

@@ -31,10 +31,13 @@ struct EigenSolveReport {
   std::string message;
 };
 
-// x (4V, unit Euclidean norm) ← smallest eigenvector of `dirac`. `solver` keeps its symbolic analysis between calls
-// (the pattern of `dirac` must not change). Starts from λ ≡ 1 (real part 1 at every vertex).
-EigenSolveReport smallest_eigenvector(linalg::SparseCholesky& solver, const Eigen::SparseMatrix<double>& dirac,
-                                      double mean_diagonal, const EigenSolveOptions& options, Eigen::VectorXd& x);
+// x (unit Euclidean norm) ← smallest eigenvector of `dirac` (real 4V×4V or complex Hermitian 2V×2V form, see
+// dirac_operator.hpp). `solver` keeps its symbolic analysis between calls (the pattern of `dirac` must not change).
+// Starts from λ ≡ 1 (real part 1 at every vertex).
+template <class Scalar>
+EigenSolveReport smallest_eigenvector(linalg::SparseCholeskyT<Scalar>& solver, const Eigen::SparseMatrix<Scalar>& dirac,
+                                      double mean_diagonal, const EigenSolveOptions& options,
+                                      Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x);
 
 // ω (V×3): ω_i = Σ_j w_ij ẽ_{j→i} with w_ij the cot weights (½ cot per face-edge) and ẽ the transformed edges;
 // λ is the 4V eigenvector (w, x, y, z per vertex). With λ ≡ 1, ω = L x.

@@ -1,6 +1,9 @@
 #include "core/spherical_map/willmore_flow.hpp"
 
 #include <chrono>
+#include <complex>
+#include <memory>
+#include <vector>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -22,13 +25,54 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-linalg::CholeskyOptions cholesky_options(LinearSolverKind kind, linalg::CholmodMode mode) {
+linalg::CholeskyOptions cholesky_options(LinearSolverKind kind, linalg::CholmodMode mode, std::vector<int> perm) {
   linalg::CholeskyOptions o;
   o.backend = kind == LinearSolverKind::Cholmod ? linalg::CholeskyBackend::Cholmod
                                                 : linalg::CholeskyBackend::EigenSimplicial;
   o.cholmod_mode = mode;
+  if (kind == LinearSolverKind::Cholmod) o.permutation = std::move(perm);
   return o;
 }
+
+// The Dirac eigenproblem in either storage (dirac_operator.hpp); the pattern and the symbolic factorisation are
+// built once, with a METIS ordering of the vertex graph expanded to the blocks (cheaper than ordering the big graph).
+class DiracSystem {
+ public:
+  DiracSystem(const geometry::VertexPattern& vp, bool use_complex, LinearSolverKind kind, const std::vector<int>& perm)
+      : vp_(vp), complex_(use_complex) {
+    if (complex_) {
+      cplx_ = build_dirac_pattern<std::complex<double>>(vp);
+      cplx_solver_ = std::make_unique<linalg::ComplexSparseCholesky>(
+          cholesky_options(kind, linalg::CholmodMode::Supernodal, perm.empty() ? perm : linalg::expand_ordering(perm, 2)));
+    } else {
+      real_ = build_dirac_pattern<double>(vp);
+      real_solver_ = std::make_unique<linalg::SparseCholesky>(
+          cholesky_options(kind, linalg::CholmodMode::Supernodal, perm.empty() ? perm : linalg::expand_ordering(perm, 4)));
+    }
+  }
+  double assemble(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces, const Eigen::VectorXd& areas,
+                  const Eigen::VectorXd& rho) {
+    return complex_ ? assemble_dirac(vp_, cplx_, x, faces, areas, rho) : assemble_dirac(vp_, real_, x, faces, areas, rho);
+  }
+  // λ as a 4V quaternion field.
+  EigenSolveReport solve(double mean_diag, const EigenSolveOptions& options, Eigen::VectorXd& lambda) {
+    if (complex_) {
+      const EigenSolveReport r = smallest_eigenvector(*cplx_solver_, cplx_.matrix, mean_diag, options, zx_);
+      if (r.ok) lambda = quaternions_from_complex(zx_);
+      return r;
+    }
+    return smallest_eigenvector(*real_solver_, real_.matrix, mean_diag, options, lambda);
+  }
+
+ private:
+  const geometry::VertexPattern& vp_;
+  bool complex_;
+  DiracPattern real_;
+  ComplexDiracPattern cplx_;
+  std::unique_ptr<linalg::SparseCholesky> real_solver_;
+  std::unique_ptr<linalg::ComplexSparseCholesky> cplx_solver_;
+  Eigen::VectorXcd zx_;
+};
 
 // Everything derived from the current positions.
 struct SurfaceState {
@@ -88,10 +132,11 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
   FlowResult result;
   const Eigen::MatrixX3i& faces = mesh.faces;
   const geometry::VertexPattern pattern = geometry::build_vertex_pattern(mesh.vertex_count(), faces);
-  DiracPattern dirac = build_dirac_pattern(pattern);
-  linalg::SparseCholesky dirac_solver(cholesky_options(solver_kind, linalg::CholmodMode::Supernodal));
-  linalg::SparseCholesky poisson_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto));
-  linalg::SparseCholesky filter_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto));
+  const std::vector<int> perm =
+      solver_kind == LinearSolverKind::Cholmod ? linalg::metis_ordering(pattern.pattern) : std::vector<int>{};
+  DiracSystem dirac(pattern, options.complex_dirac, solver_kind, perm);
+  linalg::SparseCholesky poisson_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto, perm));
+  linalg::SparseCholesky filter_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto, perm));
   EigenSolveOptions eigen_options;
   eigen_options.max_iterations = options.max_inverse_iterations;
 
@@ -151,10 +196,10 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
         break;
       }
       const Eigen::VectorXd rho = -tau * project_admissible(g, state.mass, state.normals);
-      const double mean_diag = assemble_dirac(pattern, dirac, state.x, faces, state.areas, rho);
+      const double mean_diag = dirac.assemble(state.x, faces, state.areas, rho);
       rec.geometry_seconds = seconds_since(t0);
       // λ: smallest eigenvector of 𝔼(ρ).
-      const EigenSolveReport eig = smallest_eigenvector(dirac_solver, dirac.matrix, mean_diag, eigen_options, lambda);
+      const EigenSolveReport eig = dirac.solve(mean_diag, eigen_options, lambda);
       rec.factor_seconds = eig.factor_seconds;
       rec.eigen_seconds = eig.solve_seconds;
       rec.eigen_residual = eig.residual;
@@ -212,7 +257,7 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
         rec.note = reject;
         result.steps.push_back(rec);
         tau *= 0.5;
-        if (tau < options.min_tau) {
+        if (std::abs(tau) < options.min_tau) {
           result.status = MapStatus::NotConverged;
           result.failed_check = reject;
           result.message = "step " + std::to_string(step) + " rejected (" + reject + ") down to tau " +

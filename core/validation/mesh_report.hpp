@@ -26,6 +26,7 @@ struct MeshReport {
   std::int64_t unreferenced_vertices = 0;
   std::int64_t duplicate_vertices = 0;    // exactly equal positions
   bool orientation_consistent = true;     // every interior edge traversed once in each direction
+  std::int64_t misoriented_edges = 0;     // edges with two faces that traverse them in the same direction
   double signed_volume = 0;               // (1/6) sum x0 . (x1 x x2); > 0 for outward orientation
   double area = 0;
   std::array<double, 3> bbox_min{}, bbox_max{};
@@ -63,6 +64,7 @@ struct RepairOptions {
   bool drop_unreferenced_vertices = true;
   bool weld_duplicate_vertices = true;   // exact position equality only
   bool orient_outward = true;            // flip all faces when the signed volume is negative
+  bool remove_duplicate_faces = true;    // a face equal to an earlier one up to rotation (same orientation)
 };
 
 // Repairs harmless defects, re-analyses, and lists every reason the mesh cannot be mapped.

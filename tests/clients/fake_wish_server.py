@@ -45,7 +45,7 @@ def fake_mesh(label: str = "neuron", error: str | None = None, fmt: str = "obj")
 class FakeWishServer:
     """Start with ``with FakeWishServer() as srv: srv.url ...``."""
 
-    def __init__(self, delay: float = 0.0) -> None:
+    def __init__(self, delay: float = 0.0, port: int = 0) -> None:
         self.delay = delay                      # seconds each compute request takes
         self.lock = threading.Lock()
         self.requests: list[dict[str, Any]] = []  # method, path, query, headers, names of compute requests
@@ -57,7 +57,7 @@ class FakeWishServer:
         self.in_flight = 0                      # compute requests being "computed" now
         self.max_in_flight = 0
         self._ids = itertools.count(1)
-        self.httpd = ThreadingHTTPServer(("127.0.0.1", 0), self._handler())
+        self.httpd = ThreadingHTTPServer(("127.0.0.1", port), self._handler())
         self.httpd.daemon_threads = True
         self.thread = threading.Thread(target=self.httpd.serve_forever, kwargs={"poll_interval": 0.05},
                                        daemon=True)

@@ -1,0 +1,140 @@
+// `wish inspect FILE... [--json]`: reads each mesh, repairs the harmless defects and reports whether it can be
+// mapped to the sphere. Exit status 0 when every file is valid and mappable, 1 otherwise (a file that cannot be read
+// counts as invalid and is reported in line, so one bad file does not hide the others).
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli/command_registry.hpp"
+#include "core/common/errors.hpp"
+#include "core/io/mesh_io.hpp"
+#include "core/validation/mesh_report.hpp"
+
+namespace wish::cli {
+namespace {
+
+struct InspectOptions {
+  std::vector<std::string> files;
+  bool json = false;
+};
+
+nlohmann::json details_json(const ErrorDetails& details) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [key, value] : details) std::visit([&](const auto& v) { out[key] = v; }, value);
+  return out;
+}
+
+nlohmann::json report_json(const MeshReport& r) {
+  return {{"vertices", r.vertices},
+          {"edges", r.edges},
+          {"faces", r.faces},
+          {"components", r.components},
+          {"boundary_edges", r.boundary_edges},
+          {"nonmanifold_edges", r.nonmanifold_edges},
+          {"nonmanifold_vertices", r.nonmanifold_vertices},
+          {"euler_characteristic", r.euler_characteristic},
+          {"genus", r.genus ? nlohmann::json(*r.genus) : nlohmann::json(nullptr)},
+          {"degenerate_faces", r.degenerate_faces},
+          {"duplicate_faces", r.duplicate_faces},
+          {"unreferenced_vertices", r.unreferenced_vertices},
+          {"duplicate_vertices", r.duplicate_vertices},
+          {"orientation_consistent", r.orientation_consistent},
+          {"misoriented_edges", r.misoriented_edges},
+          {"signed_volume", r.signed_volume},
+          {"area", r.area},
+          {"bbox_min", r.bbox_min},
+          {"bbox_max", r.bbox_max}};
+}
+
+// One file: {"file", "valid", and either "error" or "format", "encoding", "notes", "input_report", "report",
+// "repairs", "issues"}.
+nlohmann::json inspect_file(const std::string& file) {
+  nlohmann::json out = {{"file", file}};
+  try {
+    const ReadResult read = read_mesh_file(file);
+    const PreparedMesh prepared = prepare_for_mapping(read.mesh);
+    out["valid"] = prepared.mappable();
+    out["format"] = to_string(read.format);
+    out["encoding"] = read.encoding == MeshEncoding::Ascii ? "ascii"
+                      : read.encoding == MeshEncoding::BinaryBigEndian ? "binary_big_endian" : "binary_little_endian";
+    out["notes"] = read.notes;
+    out["input_report"] = report_json(prepared.input_report);
+    out["report"] = report_json(prepared.report);
+    out["repairs"] = nlohmann::json::array();
+    for (const auto& r : prepared.repairs) out["repairs"].push_back({{"code", r.code}, {"message", r.message}, {"count", r.count}});
+    out["issues"] = nlohmann::json::array();
+    for (const auto& i : prepared.issues)
+      out["issues"].push_back({{"code", i.code}, {"message", i.message}, {"details", details_json(i.details)}});
+  } catch (const WishError& e) {
+    out["valid"] = false;
+    out["error"] = {{"code", e.code()}, {"category", to_string(e.category())}, {"message", e.what()}, {"details", details_json(e.details())}};
+  }
+  return out;
+}
+
+void print_table(const nlohmann::json& result, std::ostream& os) {
+  os << result["file"].get<std::string>() << ": " << (result["valid"].get<bool>() ? "VALID (mappable)" : "INVALID") << "\n";
+  if (result.contains("error")) {
+    os << "  error [" << result["error"]["code"].get<std::string>() << "] " << result["error"]["message"].get<std::string>() << "\n";
+    return;
+  }
+  const auto& r = result["report"];
+  const auto row = [&](const char* label, const std::string& value) { os << "  " << std::left << std::setw(24) << label << value << "\n"; };
+  const auto num = [&](const char* key) { return r[key].dump(); };
+  row("format", result["format"].get<std::string>() + " (" + result["encoding"].get<std::string>() + ")");
+  row("vertices / edges / faces", num("vertices") + " / " + num("edges") + " / " + num("faces"));
+  row("components", num("components"));
+  row("boundary edges", num("boundary_edges"));
+  row("non-manifold edges", num("nonmanifold_edges"));
+  row("non-manifold vertices", num("nonmanifold_vertices"));
+  row("Euler characteristic", num("euler_characteristic"));
+  row("genus", r["genus"].is_null() ? "n/a" : num("genus"));
+  row("degenerate faces", num("degenerate_faces"));
+  row("duplicate faces", num("duplicate_faces"));
+  row("unreferenced vertices", num("unreferenced_vertices"));
+  row("duplicate vertices", num("duplicate_vertices"));
+  row("consistently oriented", r["orientation_consistent"].get<bool>() ? "yes" : "no (" + num("misoriented_edges") + " edges)");
+  std::ostringstream geometry;
+  geometry << std::setprecision(6) << r["signed_volume"].get<double>() << " / " << r["area"].get<double>();
+  row("signed volume / area", geometry.str());
+  std::ostringstream box;
+  box << std::setprecision(6) << "[" << r["bbox_min"][0].get<double>() << ", " << r["bbox_min"][1].get<double>() << ", "
+      << r["bbox_min"][2].get<double>() << "] - [" << r["bbox_max"][0].get<double>() << ", " << r["bbox_max"][1].get<double>() << ", "
+      << r["bbox_max"][2].get<double>() << "]";
+  row("bounding box", box.str());
+  for (const auto& note : result["notes"]) os << "  note:   " << note.get<std::string>() << "\n";
+  for (const auto& repair : result["repairs"])
+    os << "  repair: [" << repair["code"].get<std::string>() << "] " << repair["message"].get<std::string>() << "\n";
+  for (const auto& issue : result["issues"])
+    os << "  issue:  [" << issue["code"].get<std::string>() << "] " << issue["message"].get<std::string>() << "\n";
+}
+
+CommandRunner setup_inspect(CLI::App& sub) {
+  auto options = std::make_shared<InspectOptions>();
+  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL; format detected from the content)")->required();
+  sub.add_flag("--json", options->json, "Print a JSON array with one object per file instead of a table");
+  return [options]() {
+    nlohmann::json all = nlohmann::json::array();
+    bool all_valid = true;
+    for (const auto& file : options->files) {
+      nlohmann::json result = inspect_file(file);
+      all_valid = all_valid && result["valid"].get<bool>();
+      if (!options->json) print_table(result, std::cout);
+      all.push_back(std::move(result));
+    }
+    if (options->json) std::cout << all.dump(2) << "\n";
+    return all_valid ? kExitOk : kExitInvalid;
+  };
+}
+
+const bool registered = register_command(
+    {"inspect", "Report the topology and geometry of mesh files and whether they can be mapped to the sphere", &setup_inspect, 10});
+
+}  // namespace
+}  // namespace wish::cli

@@ -1,0 +1,66 @@
+// `wish serve --models DIR --port 8080 ...`: the HTTP service (server/). Every option also reads a WISH_*
+// environment variable (CLI11 envname); a flag given on the command line wins over the environment.
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/command_registry.hpp"
+#include "server/config.hpp"
+#include "server/run_server.hpp"
+
+namespace wish::cli {
+namespace {
+
+CommandRunner setup_serve(CLI::App& sub) {
+  auto config = std::make_shared<server::ServerConfig>();
+  auto& c = *config;
+  // The options write into objects that outlive setup (the runner is called after parsing).
+  auto models_dir = std::make_shared<std::string>();
+  sub.add_option("--models", *models_dir, "Directory of *.json classifier models (reloaded on SIGHUP)")
+      ->envname("WISH_MODELS")
+      ->required();
+  sub.add_option("--host", c.host, "Listen address")->envname("WISH_HOST")->capture_default_str();
+  sub.add_option("--port", c.port, "Listen port (0: any free port, logged at start)")->envname("WISH_PORT")
+      ->capture_default_str();
+  sub.add_option("--default-model", c.default_model, "Model used when a classify request names none")
+      ->envname("WISH_DEFAULT_MODEL")->capture_default_str();
+  sub.add_option("--max-upload-bytes", c.max_upload_bytes, "Largest request body (413 above)")
+      ->envname("WISH_MAX_UPLOAD_BYTES")->capture_default_str();
+  sub.add_option("--max-vertices", c.max_vertices, "Most vertices per mesh (413 above)")
+      ->envname("WISH_MAX_VERTICES")->capture_default_str();
+  sub.add_option("--max-faces", c.max_faces, "Most triangles per mesh (413 above)")
+      ->envname("WISH_MAX_FACES")->capture_default_str();
+  sub.add_option("--max-lmax", c.max_lmax, "Largest Lmax a request may ask for (413 above)")
+      ->envname("WISH_MAX_LMAX")->capture_default_str();
+  sub.add_option("--max-parts", c.max_parts, "Most mesh parts in one multipart request (413 above)")
+      ->envname("WISH_MAX_PARTS")->capture_default_str();
+  sub.add_option("--max-steps", c.max_steps, "Largest flow step cap a request may ask for (413 above)")
+      ->envname("WISH_MAX_STEPS")->capture_default_str();
+  sub.add_option("--time-limit", c.time_limit_seconds, "Seconds per request, queue wait included (504 past it)")
+      ->envname("WISH_TIME_LIMIT")->capture_default_str();
+  sub.add_option("--queue-size", c.queue_size, "Jobs waiting for a worker (503 + Retry-After beyond)")
+      ->envname("WISH_QUEUE_SIZE")->capture_default_str();
+  sub.add_option("--workers", c.workers, "Compute workers (0: number of cores)")->envname("WISH_WORKERS")
+      ->capture_default_str();
+  sub.add_option("--http-threads", c.http_threads, "HTTP connection threads (0: workers + queue size + 8)")
+      ->envname("WISH_HTTP_THREADS")->capture_default_str();
+  sub.add_option("--shutdown-grace", c.shutdown_grace_seconds, "Seconds to finish in-flight requests on SIGTERM")
+      ->envname("WISH_SHUTDOWN_GRACE")->capture_default_str();
+  sub.add_option("--retry-after", c.retry_after_seconds, "Retry-After seconds sent with 503")
+      ->envname("WISH_RETRY_AFTER")->capture_default_str();
+  sub.add_option("--auth-token", c.auth_token, "Require 'Authorization: Bearer TOKEN' on /v1/* (prefer the env var)")
+      ->envname("WISH_AUTH_TOKEN");
+  sub.add_flag("--json-log", c.json_log, "One JSON object per log line")->envname("WISH_JSON_LOG");
+  sub.add_option("--log-level", c.log_level, "trace, debug, info, warn, error")->envname("WISH_LOG_LEVEL")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))->capture_default_str();
+  return [config, models_dir] {
+    config->models_dir = *models_dir;
+    return server::run_server(*config);
+  };
+}
+
+const bool registered = register_command(
+    {"serve", "Run the HTTP service (classify / describe over REST) on a worker pool", &setup_serve, 70});
+
+}  // namespace
+}  // namespace wish::cli

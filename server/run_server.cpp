@@ -1,0 +1,83 @@
+#include "server/run_server.hpp"
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "core/linalg/blas_info.hpp"
+#include "server/error_mapping.hpp"
+#include "server/http_server.hpp"
+#include "server/logging.hpp"
+#include "server/metrics.hpp"
+#include "server/model_registry.hpp"
+#include "server/signals.hpp"
+#include "server/worker_pool.hpp"
+
+namespace wish::server {
+
+int run_server(ServerConfig config) {
+  SignalWatcher::block_signals();  // before any thread exists, so every thread inherits the mask
+  config.finalize();
+  configure_logging(config.json_log, config.log_level);
+  set_retry_after_seconds(config.retry_after_seconds);
+
+  spdlog::info("wish serve: effective configuration (flags > WISH_* environment > defaults):");
+  std::istringstream lines(config.describe());
+  for (std::string line; std::getline(lines, line);) spdlog::info("  {}", line);
+  spdlog::info("BLAS: {}; compute workers use 1 OpenMP and 1 BLAS thread each", wish::linalg::describe_blas());
+
+  ModelRegistry models(config.models_dir, config.default_model);
+  models.reload();
+  if (models.size() == 0) spdlog::warn("no model loaded: /readyz is 503 and /v1/classify refuses until a reload");
+
+  Metrics metrics;
+  WorkerPool pool(config.workers, config.queue_size);
+  HttpServer http(config, models, pool, metrics);
+  const int port = http.bind();
+  spdlog::info("listening on http://{}:{}", config.host, port);
+
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool served = false, terminating = false;
+  std::thread watchdog;
+  {
+    SignalWatcher signals(
+        [&] { metrics.count_reload(models.reload().ok()); },
+        [&](int sig) {
+          spdlog::info("signal {}: draining ({} request(s) in flight, grace {} s)", sig, http.in_flight(),
+                       config.shutdown_grace_seconds);
+          http.begin_drain();
+          http.stop();
+          std::lock_guard lock(mutex);
+          terminating = true;
+          cv.notify_all();
+        });
+    // Past the grace period, cancel what is still running so that the process exits in bounded time.
+    watchdog = std::thread([&] {
+      std::unique_lock lock(mutex);
+      cv.wait(lock, [&] { return terminating || served; });
+      if (served) return;
+      const auto grace = std::chrono::duration<double>(config.shutdown_grace_seconds);
+      if (!cv.wait_for(lock, grace, [&] { return served; })) {
+        spdlog::warn("grace period over: cancelling {} in-flight request(s)", http.in_flight());
+        http.cancel_in_flight();
+      }
+    });
+    http.serve();  // returns once stopped and every in-flight request is answered
+    {
+      std::lock_guard lock(mutex);
+      served = true;
+      cv.notify_all();
+    }
+    watchdog.join();
+  }
+  pool.shutdown();
+  spdlog::info("stopped");
+  return 0;
+}
+
+}  // namespace wish::server

@@ -1,0 +1,127 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/classify/feature_pipeline.hpp"
+#include "core/classify/splits.hpp"
+#include "core/classify/training.hpp"
+#include "core/classify/training_report.hpp"
+#include "core/common/errors.hpp"
+#include "tests/classify/classify_test_data.hpp"
+
+namespace wish {
+namespace {
+
+TEST(Splits, StratifiedShuffleSplitKeepsProportions) {
+  std::vector<int> y;
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 10 + 5 * c; ++i) y.push_back(c);
+  const auto splits = stratified_shuffle_split(y, 5, 0.2, 3);
+  ASSERT_EQ(splits.size(), 5u);
+  for (const auto& s : splits) {
+    EXPECT_EQ(s.test.size(), 9u);  // ceil(0.2 * 45)
+    EXPECT_EQ(s.train.size() + s.test.size(), y.size());
+    std::vector<int> count(3, 0);
+    for (int i : s.test) ++count[y[i]];
+    EXPECT_EQ(count, (std::vector<int>{2, 3, 4}));
+    std::set<int> all(s.train.begin(), s.train.end());
+    all.insert(s.test.begin(), s.test.end());
+    EXPECT_EQ(all.size(), y.size());
+  }
+  EXPECT_NE(splits[0].test, splits[1].test);
+  EXPECT_EQ(stratified_shuffle_split(y, 5, 0.2, 3)[4].test, splits[4].test);  // seed-determined
+}
+
+TEST(Splits, KFoldCoversEverySampleOnce) {
+  std::vector<int> y(23);
+  for (int i = 0; i < 23; ++i) y[i] = i % 4;
+  const auto folds = stratified_k_fold(y, 5, 9);
+  std::vector<int> seen(23, 0);
+  for (const auto& f : folds)
+    for (int i : f.test) ++seen[i];
+  EXPECT_EQ(seen, std::vector<int>(23, 1));
+}
+
+TEST(FeaturePipeline, SelectsNormalisesAndLogs) {
+  ShapeFeatures f;
+  f.invariants = Eigen::VectorXd::LinSpaced(6, 1, 6);  // xi(l) = l + 1
+  f.global = Eigen::VectorXd::Constant(kGlobalCount, 2.0);
+  FeatureSpec spec;
+  spec.l_min = 2;
+  spec.l_max = 4;
+  spec.scale = ScaleNormalization::ByFirstInvariant;
+  spec.log_transform = true;
+  const Eigen::VectorXd v = apply_feature_pipeline(f, spec);
+  ASSERT_EQ(v.size(), 3);
+  EXPECT_DOUBLE_EQ(v(0), std::log(3.0 / 2.0));
+  EXPECT_DOUBLE_EQ(v(2), std::log(5.0 / 2.0));
+  spec.scale = ScaleNormalization::ByArea;
+  spec.log_transform = false;
+  spec.family = FeatureFamily::Combined;
+  spec.global_scale_free = true;
+  const Eigen::VectorXd w = apply_feature_pipeline(f, spec);
+  EXPECT_EQ(w.size(), 3 + kGlobalCount - 3);
+  EXPECT_DOUBLE_EQ(w(0), 1.5);
+  EXPECT_EQ(feature_names(spec).front(), "xi_2");
+  EXPECT_EQ(feature_names(spec)[3], "g_sphericity");
+  f.global.resize(0);
+  EXPECT_THROW(apply_feature_pipeline(f, spec), InvalidInputError);
+}
+
+TEST(Training, ReproducibleWithASeed) {
+  const auto samples = testing::synthetic_samples(3, 14, 21);
+  const auto a = train_classifier(samples, testing::quick_train_options(5));
+  const auto b = train_classifier(samples, testing::quick_train_options(5));
+  EXPECT_EQ(a.model.to_json_text(), b.model.to_json_text());
+  EXPECT_EQ(a.report.nested.scores, b.report.nested.scores);
+  EXPECT_EQ(a.report.test_indices, b.report.test_indices);
+}
+
+TEST(Training, ReportsTheFiguresOfTable1AndMore) {
+  const auto samples = testing::synthetic_samples(3, 20, 22);
+  auto opts = testing::quick_train_options(6);
+  const auto r = train_classifier(samples, opts);
+  const TrainingReport& rep = r.report;
+  EXPECT_EQ(rep.classes, (std::vector<std::string>{"class_a", "class_b", "class_c"}));
+  EXPECT_EQ(rep.grid.mean_score.rows(), 5);
+  EXPECT_EQ(rep.grid.mean_score.cols(), 5);
+  EXPECT_DOUBLE_EQ(rep.grid.best_score, rep.grid.mean_score.maxCoeff());
+  EXPECT_GT(rep.grid.best_score, 0.5);  // chance is 1/3
+  EXPECT_EQ(rep.test.confusion.sum(), static_cast<int>(rep.test_indices.size()));
+  EXPECT_EQ(rep.test_indices.size(), 12u);  // ceil(0.2 * 60)
+  EXPECT_EQ(rep.nested.scores.size(), 3u);
+  EXPECT_EQ(r.model.training_summary().best_c, rep.grid.C());
+  EXPECT_EQ(r.model.training_summary().samples, 60);
+  const std::string json = training_report_json(rep), table = training_report_table(rep);
+  EXPECT_NE(json.find("confusion_matrix"), std::string::npos);
+  EXPECT_NE(table.find("precision"), std::string::npos);
+  const std::string svg = grid_heatmap_svg(rep.grid, "test");
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+}
+
+TEST(Training, FamiliesAndRefit) {
+  const auto samples = testing::synthetic_samples(2, 12, 23);
+  for (auto family : {FeatureFamily::Invariants, FeatureFamily::Global, FeatureFamily::Combined}) {
+    auto opts = testing::quick_train_options(8);
+    opts.nested_repeats = 0;
+    opts.spec.family = family;
+    opts.refit_on_all = family == FeatureFamily::Combined;
+    const auto r = train_classifier(samples, opts);
+    EXPECT_EQ(r.model.needs_global_features(), family != FeatureFamily::Invariants);
+    EXPECT_NO_THROW((void)r.model.predict(samples[0].features));
+  }
+}
+
+TEST(Training, RefusesUnusableData) {
+  auto samples = testing::synthetic_samples(2, 6, 24);
+  auto opts = testing::quick_train_options();
+  for (auto& s : samples) s.label = "same";
+  EXPECT_THROW(train_classifier(samples, opts), InvalidInputError);
+  samples = testing::synthetic_samples(2, 6, 24);
+  samples[0].features.invariants.resize(3);
+  EXPECT_THROW(train_classifier(samples, opts), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace wish

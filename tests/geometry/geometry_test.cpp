@@ -1,0 +1,88 @@
+// Operator identities and curvature facts of spherical-map.md §1 / §9.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "core/geometry/cotan_laplacian.hpp"
+#include "core/geometry/face_geometry.hpp"
+#include "core/geometry/mass_matrix.hpp"
+#include "core/geometry/mean_curvature.hpp"
+#include "core/geometry/roundness.hpp"
+#include "core/geometry/vertex_normals.hpp"
+#include "core/mesh/icosphere.hpp"
+#include "tests/testing/test_data.hpp"
+
+namespace wish::geometry {
+namespace {
+
+TEST(CotanLaplacian, ConstantsInKernelSymmetricPsd) {
+  const Mesh mesh = testing::make_ellipsoid(1.0, 0.7, 0.5, 3);
+  const Eigen::SparseMatrix<double> l = cotan_laplacian(mesh.vertices, mesh.faces);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(mesh.vertex_count());
+  EXPECT_LT((l * ones).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((Eigen::SparseMatrix<double>(l.transpose()) - l).norm(), 1e-12);
+  std::srand(testing::test_seed());
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::VectorXd x = Eigen::VectorXd::Random(mesh.vertex_count());
+    EXPECT_GE(x.dot(l * x), -1e-12);
+  }
+  // Dirichlet energy of the coordinate functions: ½ Σ xᵀLx = area for any closed surface... (Σ_k x_kᵀ L x_k = 2·area)
+  const Eigen::MatrixX3d lx = l * mesh.vertices;
+  const double dirichlet = (mesh.vertices.array() * lx.array()).sum();
+  EXPECT_NEAR(dirichlet, 2.0 * face_areas(mesh.vertices, mesh.faces).sum(), 1e-9);
+}
+
+TEST(LumpedMass, SumsToArea) {
+  const Mesh mesh = make_icosphere(3);
+  const Eigen::VectorXd m = lumped_mass(mesh.vertices, mesh.faces);
+  EXPECT_NEAR(m.sum(), face_areas(mesh.vertices, mesh.faces).sum(), 1e-12);
+  EXPECT_GT(m.minCoeff(), 0.0);
+}
+
+TEST(VertexNormals, SphereNormalsAreRadial) {
+  const Mesh mesh = make_icosphere(3);
+  const Eigen::MatrixX3d n = vertex_normals(mesh.vertices, mesh.faces);
+  EXPECT_LT((n - mesh.vertices).rowwise().norm().maxCoeff(), 1e-2);
+  EXPECT_GT(signed_volume(mesh.vertices, mesh.faces), 4.0);
+}
+
+TEST(MeanCurvature, UnitIcosphereIsOneAndEnergyIsFourPi) {
+  const Mesh mesh = make_icosphere(4);  // 2562 vertices
+  const Eigen::VectorXd h = mean_curvature(mesh.vertices, mesh.faces);
+  EXPECT_LT(std::abs(h.mean() - 1.0), 1e-2);
+  EXPECT_GT(h.minCoeff(), 0.9);
+  const double ratio = willmore_energy(mesh.vertices, mesh.faces) / (4.0 * std::numbers::pi);
+  EXPECT_GE(ratio, 0.99);
+  EXPECT_LE(ratio, 1.01);
+}
+
+TEST(MeanCurvature, ScalesInverselyWithLengthAndEnergyIsScaleInvariant) {
+  Mesh mesh = testing::make_ellipsoid(1.0, 0.7, 0.5, 4);
+  const Eigen::VectorXd h1 = mean_curvature(mesh.vertices, mesh.faces);
+  const double e1 = willmore_energy(mesh.vertices, mesh.faces);
+  mesh.vertices *= 3.0;
+  const Eigen::VectorXd h3 = mean_curvature(mesh.vertices, mesh.faces);
+  EXPECT_LT((h1 - 3.0 * h3).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_NEAR(willmore_energy(mesh.vertices, mesh.faces), e1, 1e-9 * e1);
+  EXPECT_GT(e1 / (4 * std::numbers::pi), 1.1);  // ellipsoid (1, 0.7, 0.5): ≈ 1.205
+}
+
+TEST(Roundness, SphereIsRoundEllipsoidIsNot) {
+  const Mesh sphere = make_icosphere(3);
+  EXPECT_LT(roundness(sphere.vertices, sphere.faces), 1e-12);
+  const Mesh ellipsoid = testing::make_ellipsoid(1.0, 0.7, 0.5, 3);
+  EXPECT_GT(roundness(ellipsoid.vertices, ellipsoid.faces), 0.1);
+}
+
+TEST(FaceGeometry, AnglesSumToPiAndCotangentsMatch) {
+  const Mesh mesh = testing::make_ellipsoid(1.0, 0.7, 0.5, 2);
+  const Eigen::MatrixX3d angles = corner_angles(mesh.vertices, mesh.faces);
+  const Eigen::MatrixX3d cot = corner_cotangents(mesh.vertices, mesh.faces);
+  EXPECT_LT((angles.rowwise().sum().array() - std::numbers::pi).abs().maxCoeff(), 1e-12);
+  EXPECT_LT((angles.array().tan().inverse() - cot.array()).abs().maxCoeff(), 1e-9);
+  EXPECT_GT(mean_edge_length(mesh.vertices, mesh.faces), 0.0);
+}
+
+}  // namespace
+}  // namespace wish::geometry

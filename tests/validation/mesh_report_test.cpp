@@ -1,0 +1,178 @@
+// analyze_mesh and prepare_for_mapping on small hand-made meshes and on the committed data/meshes.
+#include <gtest/gtest.h>
+
+#include "core/io/mesh_io.hpp"
+#include "core/validation/mesh_report.hpp"
+#include "tests/testing/test_data.hpp"
+
+namespace wish {
+namespace {
+
+Mesh make(std::initializer_list<std::array<double, 3>> v, std::initializer_list<std::array<int, 3>> f) {
+  Mesh m;
+  m.vertices.resize(static_cast<Eigen::Index>(v.size()), 3);
+  m.faces.resize(static_cast<Eigen::Index>(f.size()), 3);
+  Eigen::Index i = 0;
+  for (const auto& p : v) m.vertices.row(i++) = Eigen::RowVector3d(p[0], p[1], p[2]);
+  i = 0;
+  for (const auto& t : f) m.faces.row(i++) = Eigen::RowVector3i(t[0], t[1], t[2]);
+  return m;
+}
+
+// Outward tetrahedron.
+Mesh tetrahedron() { return make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}); }
+
+bool has_issue(const PreparedMesh& p, const std::string& code) {
+  for (const auto& i : p.issues)
+    if (i.code == code) return true;
+  return false;
+}
+
+const RepairAction* repair(const PreparedMesh& p, const std::string& code) {
+  for (const auto& r : p.repairs)
+    if (r.code == code) return &r;
+  return nullptr;
+}
+
+TEST(MeshReport, Tetrahedron) {
+  const MeshReport r = analyze_mesh(tetrahedron());
+  EXPECT_EQ(r.vertices, 4);
+  EXPECT_EQ(r.edges, 6);
+  EXPECT_EQ(r.faces, 4);
+  EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  ASSERT_TRUE(r.genus);
+  EXPECT_EQ(*r.genus, 0);
+  EXPECT_TRUE(r.orientation_consistent);
+  EXPECT_NEAR(r.signed_volume, 1.0 / 6.0, 1e-15);
+  EXPECT_NEAR(r.area, 1.5 + std::sqrt(3.0) / 2, 1e-12);
+  EXPECT_EQ(r.bbox_max[2], 1.0);
+  EXPECT_TRUE(prepare_for_mapping(tetrahedron()).mappable());
+}
+
+TEST(MeshReport, InwardOrientationIsFlippedAndReported) {
+  Mesh m = testing::make_ellipsoid(2, 1, 1, 2);
+  m.faces.col(1).swap(m.faces.col(2));
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_LT(p.input_report.signed_volume, 0);
+  EXPECT_GT(p.report.signed_volume, 0);
+  ASSERT_NE(repair(p, "flipped_orientation"), nullptr);
+  EXPECT_EQ(repair(p, "flipped_orientation")->count, m.face_count());
+  EXPECT_TRUE(p.mappable());
+}
+
+TEST(MeshReport, InconsistentOrientationDetected) {
+  Mesh m = testing::make_ellipsoid(1, 1, 1, 2);
+  m.faces.row(5) = Eigen::RowVector3i(m.faces(5, 0), m.faces(5, 2), m.faces(5, 1));
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_FALSE(p.report.orientation_consistent);
+  EXPECT_EQ(p.report.misoriented_edges, 3);
+  EXPECT_TRUE(has_issue(p, "inconsistent_orientation"));
+  EXPECT_EQ(repair(p, "flipped_orientation"), nullptr);
+}
+
+TEST(MeshReport, OpenSurfaceAndTooSmall) {
+  const Mesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(p.report.boundary_edges, 3);
+  EXPECT_FALSE(p.report.genus);
+  EXPECT_TRUE(has_issue(p, "not_closed"));
+  EXPECT_TRUE(has_issue(p, "too_small"));
+}
+
+TEST(MeshReport, TwoComponents) {
+  Mesh a = tetrahedron(), m;
+  m.vertices.resize(8, 3);
+  m.vertices << a.vertices, (a.vertices.array() + 5).matrix();
+  m.faces.resize(8, 3);
+  m.faces << a.faces, (a.faces.array() + 4).matrix();
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(p.report.components, 2);
+  EXPECT_EQ(p.report.euler_characteristic, 4);
+  EXPECT_TRUE(has_issue(p, "multiple_components"));
+}
+
+TEST(MeshReport, NonManifoldVertexWhereTwoTetrahedraTouch) {
+  // Second tetrahedron shares vertex 3 of the first only: one vertex with two fans.
+  Mesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 2}, {0, 1, 2}, {0, 0, 2}},
+                {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {3, 5, 4}, {3, 4, 6}, {3, 6, 5}, {4, 5, 6}});
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(p.report.nonmanifold_vertices, 1);
+  EXPECT_EQ(p.report.nonmanifold_edges, 0);
+  EXPECT_EQ(p.report.components, 1);
+  EXPECT_TRUE(has_issue(p, "non_manifold_vertex"));
+}
+
+TEST(MeshReport, NonManifoldEdgeWithThreeFaces) {
+  Mesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, -1, 0}}, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(p.report.nonmanifold_edges, 1);
+  EXPECT_TRUE(has_issue(p, "non_manifold_edge"));
+}
+
+TEST(MeshReport, DegenerateFacesAreIssues) {
+  Mesh m = tetrahedron();
+  m.faces.conservativeResize(6, 3);
+  m.faces.row(4) = Eigen::RowVector3i(0, 0, 1);  // repeated index
+  m.vertices.conservativeResize(5, 3);
+  m.vertices.row(4) = Eigen::RowVector3d(2, 0, 0);  // collinear with 0 and 1: zero area
+  m.faces.row(5) = Eigen::RowVector3i(0, 1, 4);
+  const MeshReport r = analyze_mesh(m);
+  EXPECT_EQ(r.degenerate_faces, 2);
+  EXPECT_TRUE(has_issue(prepare_for_mapping(m), "degenerate_faces"));
+}
+
+TEST(MeshReport, HarmlessDefectsAreRepairedAndReported) {
+  // Tetrahedron with: an unreferenced vertex, a split copy of vertex 0 used by two faces, a duplicated face.
+  Mesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {9, 9, 9}, {0, 0, 0}},
+                {{0, 2, 1}, {5, 1, 3}, {5, 3, 2}, {1, 2, 3}, {2, 3, 1}});
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(p.input_report.unreferenced_vertices, 1);
+  EXPECT_EQ(p.input_report.duplicate_vertices, 1);
+  EXPECT_EQ(p.input_report.duplicate_faces, 1);
+  ASSERT_NE(repair(p, "dropped_unreferenced_vertices"), nullptr);
+  EXPECT_EQ(repair(p, "dropped_unreferenced_vertices")->count, 1);
+  ASSERT_NE(repair(p, "welded_duplicate_vertices"), nullptr);
+  EXPECT_EQ(repair(p, "welded_duplicate_vertices")->count, 1);
+  ASSERT_NE(repair(p, "removed_duplicate_faces"), nullptr);
+  EXPECT_EQ(repair(p, "removed_duplicate_faces")->count, 1);
+  EXPECT_EQ(p.mesh.vertex_count(), 4);
+  EXPECT_EQ(p.mesh.face_count(), 4);
+  EXPECT_TRUE(p.mappable()) << p.issues.front().message;
+}
+
+TEST(MeshReport, RequireMappableThrowsFirstIssue) {
+  const PreparedMesh p = prepare_for_mapping(make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}));
+  try {
+    require_mappable(p);
+    FAIL();
+  } catch (const WishError& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::Unmappable);
+    EXPECT_EQ(e.code(), p.issues.front().code);
+  }
+  EXPECT_NO_THROW(require_mappable(prepare_for_mapping(tetrahedron())));
+}
+
+TEST(ProjectData, GenusZeroMeshesAreMappable) {
+  for (const char* name : {"sphere.off", "ellipsoid.off", "cube-meshed.off", "celegans_cell.obj"}) {
+    SCOPED_TRACE(name);
+    const ReadResult r = read_mesh_file(testing::project_data_dir() / "meshes" / name);
+    const PreparedMesh p = prepare_for_mapping(r.mesh);
+    EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+    EXPECT_EQ(p.report.genus.value_or(-1), 0);
+  }
+  const MeshReport cube = analyze_mesh(read_mesh_file(testing::project_data_dir() / "meshes/cube-meshed.off").mesh);
+  EXPECT_NEAR(cube.signed_volume, 8, 1e-9);
+  EXPECT_NEAR(cube.area, 24, 1e-9);
+}
+
+TEST(ProjectData, EightIsGenusTwo) {
+  const PreparedMesh p = prepare_for_mapping(read_mesh_file(testing::project_data_dir() / "meshes/eight.off").mesh);
+  ASSERT_FALSE(p.mappable());
+  EXPECT_EQ(p.issues.front().code, "genus_nonzero");
+  EXPECT_EQ(p.issues.front().message, "genus 2 (Euler characteristic -2): only genus-0 surfaces map to a sphere");
+  EXPECT_EQ(std::get<std::int64_t>(p.issues.front().details.at("genus")), 2);
+}
+
+}  // namespace
+}  // namespace wish
