@@ -85,7 +85,7 @@ void print_table(const nlohmann::json& result, std::ostream& os) {
     return;
   }
   const auto& r = result["report"];
-  const auto row = [&](const char* label, const std::string& value) { os << "  " << std::left << std::setw(24) << label << value << "\n"; };
+  const auto row = [&](const char* label, const std::string& value) { os << "  " << std::left << std::setw(27) << label << value << "\n"; };
   const auto num = [&](const char* key) { return r[key].dump(); };
   row("format", result["format"].get<std::string>() + " (" + result["encoding"].get<std::string>() + ")");
   row("vertices / edges / faces", num("vertices") + " / " + num("edges") + " / " + num("faces"));

@@ -119,14 +119,15 @@ struct HttpServer::Impl {
 
     // Every >= 400 response passes here; a response without a body came from httplib itself (404 route, 413
     // payload, 400 framing): give it the one error body.
-    server.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
+    server.set_error_handler(httplib::Server::HandlerWithResponse(
+        [this](const httplib::Request& req, httplib::Response& res) {
       if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
       if (t_request.request_id.empty()) t_request.request_id = new_request_id();
       res.set_header("X-Request-Id", t_request.request_id);
       ApiError error = res.status == 404 ? route_not_found_error(req.method, req.path) : status_error(res.status);
       respond_error(res, error);
       return httplib::Server::HandlerResponse::Handled;
-    });
+    }));
 
     server.set_exception_handler([this](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
       const ApiError error = to_api_error(ep);

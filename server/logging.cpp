@@ -29,9 +29,10 @@ class JsonMessageFlag : public spdlog::custom_flag_formatter {
 
 void configure_logging(bool json, const std::string& level) {
   g_json = json;
-  auto sink = std::make_shared<spdlog::sinks::stderr_sink_mt>();
-  auto main = std::make_shared<spdlog::logger>("wish", sink);
-  g_access = std::make_shared<spdlog::logger>("access", sink);
+  // Formatters live on sinks in spdlog, so each logger gets its own stderr sink (they share the console mutex, so
+  // lines never interleave).
+  auto main = std::make_shared<spdlog::logger>("wish", std::make_shared<spdlog::sinks::stderr_sink_mt>());
+  g_access = std::make_shared<spdlog::logger>("access", std::make_shared<spdlog::sinks::stderr_sink_mt>());
   if (json) {
     auto formatter = std::make_unique<spdlog::pattern_formatter>();
     formatter->add_flag<JsonMessageFlag>('*').set_pattern(

@@ -1,7 +1,7 @@
 #pragma once
 // Process signals for the service: SIGHUP reloads the models, SIGTERM / SIGINT start a graceful shutdown.
-// The signals are blocked in every thread and taken synchronously by one watcher thread (sigtimedwait), so the
-// callbacks run as ordinary code (locks, logging, allocation are fine) instead of in an async signal handler.
+// The async handler only writes the signal number into a pipe; one watcher thread reads it and runs the callbacks
+// as ordinary code (locks, logging, allocation are fine), never inside the signal handler.
 
 #include <atomic>
 #include <functional>
@@ -11,8 +11,8 @@ namespace wish::server {
 
 class SignalWatcher {
  public:
-  // Blocks SIGHUP, SIGTERM and SIGINT in the calling thread (threads started later inherit the mask) and ignores
-  // SIGPIPE (a client that hangs up must not kill the server). Call before starting any thread.
+  // Installs the handlers for SIGHUP, SIGTERM and SIGINT (signals arriving before the watcher starts wait in the
+  // pipe) and ignores SIGPIPE (a client that hangs up must not kill the server). Idempotent; call early.
   static void block_signals();
 
   SignalWatcher(std::function<void()> on_reload, std::function<void(int signal)> on_terminate);

@@ -131,6 +131,7 @@ void ShBasis::run_block(int nb, const double* z, const double* s, const double* 
     emit(m + 1, m, static_cast<const double*>(p1), static_cast<const double*>(tc), static_cast<const double*>(ts));
     for (int l = m + 2; l <= L; ++l) {
       const double a = a_[l * n + m], b = b_[l * n + m];
+#pragma omp simd
       for (int i = 0; i < nb; ++i) p0[i] = a * (z[i] * p1[i] - b * p2[i]);
       emit(l, m, static_cast<const double*>(p0), static_cast<const double*>(tc), static_cast<const double*>(ts));
       double* t = p2;
@@ -273,6 +274,7 @@ Eigen::MatrixXd ShBasis::project(const Eigen::MatrixX3d& points, const Eigen::Ma
                      const int jp = sh_index(l, m), jn = sh_index(l, -m);
                      for (int q = 0; q < qc; ++q) {
                        double sc = 0, ss = 0;
+#pragma omp simd reduction(+ : sc, ss)
                        for (int i = 0; i < nb; ++i) {
                          sc += p[i] * wc[q][i];
                          ss += p[i] * ws[q][i];

@@ -100,6 +100,7 @@ MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const Spherica
     flow = spherical::cmcf_flow(mesh, c, options.solver, deadline);
   }
   attempt.steps = std::move(flow.steps);
+  attempt.hit_step_cap = flow.status == MapStatus::NotConverged && flow.failed_check == "roundness";
   // Radial projection about the area-weighted centroid, then Möbius balancing with input vertex areas.
   const Eigen::VectorXd mass = geometry::lumped_mass(flow.vertices, mesh.faces);
   const Eigen::Vector3d c = geometry::area_weighted_centroid(flow.vertices, mass);
@@ -167,7 +168,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   for (size_t k = 0; k < plans.size(); ++k) {
     // "More steps" only helps a flow that ran out of steps; skip it otherwise (it would repeat the same run).
     if (k > 0 && plans[k].method == plans[k - 1].method && plans[k].filtered == plans[k - 1].filtered &&
-        result.attempts.back().failed_check != "roundness")
+        !result.attempts.back().hit_step_cap)
       continue;
     deadline.check("spherical map attempt");
     Eigen::MatrixX3d sphere;

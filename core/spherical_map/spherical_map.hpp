@@ -108,6 +108,7 @@ struct MapAttempt {
   MapQuality quality;
   std::vector<FlowStepRecord> steps;
   double seconds = 0;
+  bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
 };
 
 struct SphericalMapResult {

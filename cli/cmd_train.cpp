@@ -1,0 +1,316 @@
+// `wish train INPUT`: trains an RBF C-SVM classifier as in paper §6 (classification.md) and writes the model
+// file, a JSON report, a printed table and an SVG heat map of the grid. INPUT is
+//   * a directory with one sub-directory per class holding meshes (OBJ, PLY, OFF, STL), or
+//   * a CSV manifest "path,label" (relative paths against the manifest's directory), or
+//   * a descriptor CSV from `wish describe --csv` / `wish train --save-descriptors` (has xi_0.. columns), with a
+//     label column or labels joined from --labels MANIFEST — so a grid search need not redo the flows.
+// Meshes are described in parallel (progress on stderr); a mesh that fails is reported and skipped, never
+// silently dropped. When the global descriptors are available, accuracies with xi alone, global alone and
+// combined are printed side by side.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli/command_registry.hpp"
+#include "core/classify/descriptor_table.hpp"
+#include "core/classify/feature_pipeline.hpp"
+#include "core/classify/grid_search.hpp"
+#include "core/classify/training.hpp"
+#include "core/classify/training_report.hpp"
+#include "core/common/errors.hpp"
+#include "core/pipeline/pipeline.hpp"
+
+namespace wish::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TrainCliOptions {
+  std::string input, labels, out = "model.json", report, heatmap, save_descriptors, name = "wish-svm";
+  int lmax = 5;
+  std::string features = "invariants", scale = "none";
+  bool log = false, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
+  std::uint64_t seed = 42;
+  int jobs = 0;
+  std::string method = "willmore", weights = "area", solver = "direct";
+  double regularization = 1e-5;
+  double test_fraction = 0.2;
+  int grid_splits = 10, nested_repeats = 2, nested_folds = 5;
+  std::vector<int> c_range{-2, 10}, gamma_range{-9, 3};
+};
+
+struct Failure {
+  std::string file, code, message;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInputError("file_not_found", "cannot open '" + path + "'");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool is_mesh_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
+}
+
+std::vector<std::pair<std::string, std::string>> list_class_directories(const fs::path& root) {
+  std::vector<std::pair<std::string, std::string>> items;
+  std::vector<fs::path> dirs;
+  for (const auto& e : fs::directory_iterator(root))
+    if (e.is_directory()) dirs.push_back(e.path());
+  std::sort(dirs.begin(), dirs.end());
+  for (const auto& d : dirs) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(d))
+      if (e.is_regular_file() && is_mesh_file(e.path())) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) items.emplace_back(f.string(), d.filename().string());
+  }
+  return items;
+}
+
+// Describes every mesh in parallel; failures are collected, not dropped.
+std::vector<TrainingSample> describe_all(const std::vector<std::pair<std::string, std::string>>& items,
+                                         const PipelineOptions& po, int jobs, bool quiet, std::vector<Failure>& failures) {
+  std::vector<std::optional<TrainingSample>> results(items.size());
+  std::vector<std::optional<Failure>> errors(items.size());
+  std::atomic<int> done{0};
+  std::mutex io;
+  const auto start = std::chrono::steady_clock::now();
+  parallel_for(static_cast<int>(items.size()), jobs, [&](int i) {
+    const auto& [file, label] = items[static_cast<std::size_t>(i)];
+    std::string status;
+    try {
+      PipelineOptions o = po;
+      const auto dot = file.find_last_of('.');
+      if (dot != std::string::npos) o.read.hint = format_from_name(file.substr(dot));
+      const PipelineResult r = describe_mesh_bytes(read_text(file), o);
+      TrainingSample s;
+      s.id = file;
+      s.label = label;
+      s.features.invariants = r.sh.invariants;
+      s.features.global = r.features.global;
+      results[static_cast<std::size_t>(i)] = std::move(s);
+      std::ostringstream st;
+      st << "ok (" << std::fixed << std::setprecision(2) << r.timings.total << " s, " << to_string(r.map.method_used) << ")";
+      status = st.str();
+    } catch (const WishError& e) {
+      errors[static_cast<std::size_t>(i)] = Failure{file, e.code(), e.what()};
+      status = "FAILED [" + e.code() + "] " + e.what();
+    }
+    const int n = ++done;
+    if (!quiet || status.rfind("FAILED", 0) == 0) {
+      std::lock_guard lock(io);
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::cerr << "[" << n << "/" << items.size() << ", " << std::fixed << std::setprecision(0) << elapsed << " s] "
+                << file << ": " << status << "\n";
+      std::cerr.unsetf(std::ios::fixed);
+    }
+  });
+  std::vector<TrainingSample> samples;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (results[i]) samples.push_back(std::move(*results[i]));
+    if (errors[i]) failures.push_back(*errors[i]);
+  }
+  return samples;
+}
+
+nlohmann::json summary_row(const std::string& family, const TrainingReport& r) {
+  return {{"family", family},          {"features", r.feature_names.size()}, {"best_C", r.grid.C()},
+          {"best_gamma", r.grid.gamma()}, {"grid_score", r.grid.best_score},  {"test_accuracy", r.test.accuracy},
+          {"nested_cv_mean", r.nested.mean}, {"nested_cv_std", r.nested.std}};
+}
+
+CommandRunner setup_train(CLI::App& sub) {
+  auto o = std::make_shared<TrainCliOptions>();
+  sub.add_option("input", o->input, "Class directory tree, manifest CSV (path,label) or descriptor CSV")->required();
+  sub.add_option("--labels", o->labels, "Manifest CSV (path,label) giving the labels of a descriptor CSV");
+  sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
+      ->check(CLI::Range(1, 100))->capture_default_str();
+  sub.add_option("--features", o->features, "invariants | global | combined")
+      ->check(CLI::IsMember({"invariants", "global", "combined"}))->capture_default_str();
+  sub.add_option("--scale", o->scale, "Scale normalisation of xi: none | xi1 | area")
+      ->check(CLI::IsMember({"none", "xi1", "area"}))->capture_default_str();
+  sub.add_flag("--log", o->log, "log of the (normalised) energies");
+  sub.add_flag("--global-scale-free", o->global_scale_free, "Only the scale-free global descriptors");
+  sub.add_option("--seed", o->seed, "Seed of splits and Platt calibration")->capture_default_str();
+  sub.add_option("--jobs", o->jobs, "Threads (0: all cores)")->capture_default_str();
+  sub.add_option("--out", o->out, "Model file to write")->capture_default_str();
+  sub.add_option("--report", o->report, "JSON report to write");
+  sub.add_option("--heatmap", o->heatmap, "SVG heat map of the grid accuracy to write");
+  sub.add_option("--save-descriptors", o->save_descriptors, "Write the labelled descriptors (CSV) for re-training");
+  sub.add_option("--name", o->name, "Model name")->capture_default_str();
+  sub.add_option("--method", o->method, "Spherical map method: willmore | cmcf")->capture_default_str();
+  sub.add_option("--weights", o->weights, "SH fit weights: area | uniform")->capture_default_str();
+  sub.add_option("--solver", o->solver, "SH fit solver: direct | banded")->capture_default_str();
+  sub.add_option("--regularization", o->regularization, "SH fit regularisation nu")->capture_default_str();
+  sub.add_option("--test-fraction", o->test_fraction, "Stratified hold-out fraction")->check(CLI::Range(0.05, 0.5))->capture_default_str();
+  sub.add_option("--grid-splits", o->grid_splits, "StratifiedShuffleSplit splits per grid cell")->check(CLI::Range(1, 100))->capture_default_str();
+  sub.add_option("--nested-repeats", o->nested_repeats, "Repeats of the nested CV (0: skip)")->check(CLI::Range(0, 100))->capture_default_str();
+  sub.add_option("--nested-folds", o->nested_folds, "Outer folds of the nested CV")->check(CLI::Range(2, 20))->capture_default_str();
+  sub.add_option("--c-range", o->c_range, "log10 of the first and last C")->expected(2)->capture_default_str();
+  sub.add_option("--gamma-range", o->gamma_range, "log10 of the first and last gamma")->expected(2)->capture_default_str();
+  sub.add_flag("--refit-all", o->refit_all, "Refit the final model on all samples (default: on the training split)");
+  sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");
+  sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
+  return [o]() {
+    PipelineOptions po;
+    po.map.method = map_method_from_name(o->method);
+    po.sh.lmax = o->lmax;
+    po.sh.weighting = fit_weighting_from_name(o->weights);
+    po.sh.solver = fit_solver_from_name(o->solver);
+    po.sh.regularization = o->regularization;
+    po.compute_global_features = true;
+
+    std::vector<TrainingSample> samples;
+    std::vector<Failure> failures;
+    std::vector<std::string> unlabelled;
+    bool have_global = true;
+    const fs::path input = o->input;
+    if (fs::is_directory(input)) {
+      const auto items = list_class_directories(input);
+      if (items.empty()) throw InvalidInputError("training_data", "no meshes in class sub-directories of " + o->input);
+      std::cerr << "describing " << items.size() << " meshes (Lmax " << o->lmax << ", " << o->method << ")\n";
+      samples = describe_all(items, po, o->jobs, o->quiet, failures);
+    } else {
+      const std::string text = read_text(o->input);
+      const auto rows = parse_csv(text.substr(0, text.find('\n') + 1));
+      const bool descriptor_csv = !rows.empty() && std::any_of(rows[0].begin(), rows[0].end(), [](const std::string& h) {
+        return h == "xi_0";
+      });
+      if (descriptor_csv) {
+        std::map<std::string, std::string> labels;
+        if (!o->labels.empty())
+          for (const auto& [path, label] : read_manifest(read_text(o->labels), fs::path(o->labels).parent_path()))
+            labels[path] = label;
+        DescriptorTable table = read_descriptor_table(text, labels);
+        samples = std::move(table.samples);
+        unlabelled = table.unlabelled;
+        have_global = table.has_global;
+        po.sh.lmax = table.lmax;  // the descriptors were fitted up to this Lmax: the model must say so
+        if (o->lmax > table.lmax)
+          throw InvalidInputError("training_data", "--lmax " + std::to_string(o->lmax) + " exceeds the CSV's xi_" +
+                                                       std::to_string(table.lmax));
+        std::cerr << "read " << samples.size() << " labelled descriptors (xi_0..xi_" << table.lmax
+                  << (have_global ? ", global descriptors" : "") << ") from " << o->input
+                  << "; the model records the map/fit settings given on this command line\n";
+        for (const auto& f : unlabelled) std::cerr << "wish train: skipped " << f << ": no label\n";
+      } else {
+        const auto items = read_manifest(text, input.parent_path());
+        std::cerr << "describing " << items.size() << " meshes from the manifest (Lmax " << o->lmax << ")\n";
+        samples = describe_all(items, po, o->jobs, o->quiet, failures);
+      }
+    }
+    for (const auto& f : failures) std::cerr << "wish train: skipped " << f.file << ": [" << f.code << "] " << f.message << "\n";
+    if (!failures.empty())
+      std::cerr << "wish train: " << failures.size() << " of " << samples.size() + failures.size()
+                << " meshes failed and are NOT in the training set\n";
+    if (!o->save_descriptors.empty()) {
+      std::ofstream(o->save_descriptors) << write_descriptor_table(samples);
+      std::cerr << "wrote descriptors to " << o->save_descriptors << "\n";
+    }
+
+    TrainOptions t;
+    t.name = o->name;
+    t.spec.family = feature_family_from_name(o->features);
+    t.spec.l_min = 1;
+    t.spec.l_max = o->lmax;
+    t.spec.scale = scale_normalization_from_name(o->scale);
+    t.spec.log_transform = o->log;
+    t.spec.global_scale_free = o->global_scale_free;
+    t.descriptor.map = po.map;
+    t.descriptor.sh = po.sh;
+    t.grid.Cs = decade_grid(o->c_range[0], o->c_range[1]);
+    t.grid.gammas = decade_grid(o->gamma_range[0], o->gamma_range[1]);
+    t.grid.jobs = o->jobs;
+    t.grid_splits = o->grid_splits;
+    t.test_fraction = o->test_fraction;
+    t.nested_repeats = o->nested_repeats;
+    t.nested_outer_folds = o->nested_folds;
+    t.refit_on_all = o->refit_all;
+    t.seed = o->seed;
+    if (!o->quiet) t.progress = [](const std::string& line) { std::cerr << "  " << line << "\n"; };
+    const bool needs_global = t.spec.family != FeatureFamily::Invariants || t.spec.scale == ScaleNormalization::ByArea;
+    if (needs_global && !have_global)
+      throw InvalidInputError("training_data", "--features " + o->features + (t.spec.scale == ScaleNormalization::ByArea ? " / --scale area" : "") +
+                                                   " needs the global descriptors (g_* columns); train from meshes or a "
+                                                   "CSV written by --save-descriptors");
+
+    std::cerr << "training on " << samples.size() << " samples, features " << o->features << "\n";
+    const TrainingResult result = train_classifier(samples, t);
+    result.model.save(o->out);
+
+    nlohmann::json comparison = nlohmann::json::array();
+    comparison.push_back(summary_row(o->features, result.report));
+    if (have_global && !o->no_compare) {
+      for (const char* family : {"invariants", "global", "combined"}) {
+        if (family == o->features) continue;
+        TrainOptions u = t;
+        u.spec.family = feature_family_from_name(family);
+        u.progress = nullptr;
+        std::cerr << "comparison: training with features " << family << "\n";
+        comparison.push_back(summary_row(family, train_classifier(samples, u).report));
+      }
+    }
+
+    std::cout << training_report_table(result.report) << "\n";
+    std::cout << "feature family comparison (same splits and seed):\n";
+    std::cout << std::left << std::setw(12) << "features" << std::right << std::setw(6) << "dim" << std::setw(9) << "C"
+              << std::setw(9) << "gamma" << std::setw(8) << "grid" << std::setw(8) << "test" << std::setw(18) << "nested CV"
+              << "\n";
+    for (const auto& row : comparison) {
+      std::ostringstream cv;
+      cv << std::fixed << std::setprecision(3) << row["nested_cv_mean"].get<double>() << " +- "
+         << row["nested_cv_std"].get<double>();
+      std::cout << std::left << std::setw(12) << row["family"].get<std::string>() << std::right << std::setw(6)
+                << row["features"].get<std::size_t>() << std::setw(9) << std::setprecision(1) << std::scientific
+                << row["best_C"].get<double>() << std::setw(9) << row["best_gamma"].get<double>() << std::fixed
+                << std::setprecision(3) << std::setw(8) << row["grid_score"].get<double>() << std::setw(8)
+                << row["test_accuracy"].get<double>() << std::setw(18) << cv.str() << "\n";
+      std::cout.unsetf(std::ios::floatfield);
+    }
+    std::cout << "model: " << o->out << " (" << result.model.classes().size() << " classes, sha256 "
+              << result.model.payload_sha256().substr(0, 16) << "...)\n";
+    if (!failures.empty() || !unlabelled.empty())
+      std::cout << "skipped: " << failures.size() << " failed meshes, " << unlabelled.size() << " unlabelled rows (see stderr)\n";
+
+    if (!o->report.empty()) {
+      nlohmann::json rep = nlohmann::json::parse(training_report_json(result.report));
+      rep["input"] = o->input;
+      rep["model_file"] = o->out;
+      rep["model_sha256"] = result.model.payload_sha256();
+      rep["comparison"] = comparison;
+      nlohmann::json skipped = nlohmann::json::array();
+      for (const auto& f : failures) skipped.push_back({{"file", f.file}, {"code", f.code}, {"message", f.message}});
+      for (const auto& f : unlabelled) skipped.push_back({{"file", f}, {"code", "no_label"}, {"message", "no label"}});
+      rep["skipped"] = skipped;
+      std::ofstream(o->report) << rep.dump(2) << "\n";
+    }
+    if (!o->heatmap.empty())
+      std::ofstream(o->heatmap) << grid_heatmap_svg(result.report.grid, "WISH grid search (" + o->features + ", Lmax " +
+                                                                           std::to_string(o->lmax) + ")");
+    return kExitOk;
+  };
+}
+
+const bool registered = register_command(
+    {"train", "Train an RBF SVM classifier (grid search, test split, nested CV) from labelled meshes or descriptors",
+     &setup_train, 50});
+
+}  // namespace
+}  // namespace wish::cli
