@@ -146,16 +146,17 @@ class ServerLoadTest(unittest.TestCase):
 
     def test_sigterm_during_load_loses_no_accepted_request(self):
         with h.Server(args=["--workers", "2", "--queue-size", "16", "--shutdown-grace", "60"]) as s:
-            n = 8
+            n = 4  # 2 running + 2 queued, long enough (~4 s each) that all are in flight when the signal comes
             results = [None] * n
 
             def one(i):
-                results[i] = s.post_mesh("/v1/describe", self.blobby)
+                results[i] = s.post_mesh("/v1/describe", self.bear)
             threads = [threading.Thread(target=one, args=(i,)) for i in range(n)]
             for t in threads:
                 t.start()
             # All n accepted (in flight) before the signal.
-            self.assertTrue(wait_for(lambda: s.metric("wish_requests_in_flight") == n), "requests did not arrive")
+            self.assertTrue(wait_for(lambda: s.metric("wish_requests_in_flight") == n, timeout=30),
+                            "requests did not arrive")
             s.signal(signal.SIGTERM)
             for t in threads:
                 t.join(timeout=120)
