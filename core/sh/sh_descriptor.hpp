@@ -30,7 +30,10 @@ GramMethod gram_method_from_name(const std::string& name);
 
 struct ShFitOptions {
   int lmax = 15;
-  double regularization = 1e-5;   // nu, with penalty l^2 (l+1)^2 (the paper's Eq. 13 has a typo) and weights summing to 1
+  // nu in the paper's units (Eq. 11-13): the penalty nu l^2 (l+1)^2 as the paper applied it to the unweighted
+  // normal equations of a 10^4-vertex mesh. The fit uses weights summing to 1 and the penalty nu/10^4 l^2 (l+1)^2,
+  // which is the paper's fit at 10^4 vertices and independent of the resolution (sh_fit.cpp).
+  double regularization = 1e-5;
   FitWeighting weighting = FitWeighting::Area;
   FitSolver solver = FitSolver::Direct;
   int band_size = 100;            // max coefficients per band for the banded solver
