@@ -1,7 +1,7 @@
 // `wish describe FILE... --lmax L [--json|--csv] [--method willmore|cmcf] [--weights area|uniform]`:
 // mesh -> validate/repair -> spherical map -> SH fit -> invariants, with the timings of every stage.
-//   default: a short table per file;  --json: an array, one object per file (descriptor layout:
-//   cli/descriptor_json.hpp);  --csv: one row per mesh: file, n_vertices, n_faces, map method/status, fit errors,
+//   default: a short table per file;  --json: an array, one object per file, its "descriptor", "map" and "timings"
+//   blocks in the service's layout (server/wire_json.hpp: the same encoders as /v1/describe);  --csv: one row per mesh: file, n_vertices, n_faces, map method/status, fit errors,
 //   timings, xi_0..xi_L (what a notebook wants).
 // A file that fails is reported (JSON: "error"; CSV/table: on stderr) and the others still run; exit status 1 then.
 #include <fstream>
@@ -16,12 +16,15 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
-#include "cli/descriptor_json.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "server/error_mapping.hpp"
+#include "server/wire_json.hpp"
 
 namespace wish::cli {
 namespace {
+
+using server::json_number_or_nan;
 
 struct DescribeOptions {
   std::vector<std::string> files;
@@ -39,10 +42,6 @@ std::string read_file_bytes(const std::string& path) {
   return ss.str();
 }
 
-nlohmann::json timings_json(const StageTimings& t) {
-  return {{"read", t.read}, {"validate", t.validate}, {"map", t.map}, {"fit", t.fit}, {"total", t.total}};
-}
-
 nlohmann::json describe_file(const std::string& file, const PipelineOptions& options, bool& ok) {
   nlohmann::json out = {{"file", file}};
   try {
@@ -52,15 +51,15 @@ nlohmann::json describe_file(const std::string& file, const PipelineOptions& opt
     const PipelineResult r = describe_mesh_bytes(read_file_bytes(file), o);
     out["n_vertices"] = r.prepared.mesh.vertex_count();
     out["n_faces"] = r.prepared.mesh.face_count();
-    out["map"] = {{"method", to_string(r.map.method_used)},
-                  {"status", to_string(r.map.status)},
-                  {"flipped_faces", r.map.quality.flipped_faces},
-                  {"conformal_p99", r.map.quality.conformal_p99}};
-    out["descriptor"] = descriptor_to_json(r.sh);
-    out["timings"] = timings_json(r.timings);
+    out["map"] = server::map_block_json(r.map, /*quality=*/true);
+    // Kept at the top of "map" for scripts written against earlier versions (also in "map.quality").
+    out["map"]["flipped_faces"] = r.map.quality.flipped_faces;
+    out["map"]["conformal_p99"] = server::json_number(r.map.quality.conformal_p99);
+    out["descriptor"] = server::descriptor_json(r.sh);
+    out["timings"] = server::timings_json(r.timings);
   } catch (const WishError& e) {
     ok = false;
-    out["error"] = {{"code", e.code()}, {"category", to_string(e.category())}, {"message", e.what()}};
+    out["error"] = server::error_entry_json(e);
   }
   return out;
 }
@@ -84,9 +83,9 @@ void print_csv(const std::vector<nlohmann::json>& results, int lmax, std::ostrea
     os << file << "," << r["n_vertices"] << "," << r["n_faces"] << "," << r["map"]["method"].get<std::string>() << ","
        << r["map"]["status"].get<std::string>();
     for (const char* key : {"mean", "rms", "max", "mean_relative", "rms_relative", "max_relative"})
-      os << "," << e[key].get<double>();
+      os << "," << json_number_or_nan(e[key]);
     for (const char* key : {"read", "validate", "map", "fit", "total"}) os << "," << t[key].get<double>();
-    for (const auto& xi : d["invariants"]) os << "," << xi.get<double>();
+    for (const auto& xi : d["invariants"]) os << "," << json_number_or_nan(xi);
     os << "\n";
   }
 }
@@ -106,10 +105,11 @@ void print_table(const nlohmann::json& r, std::ostream& os) {
   os << "  map                  " << r["map"]["method"].get<std::string>() << " ("
      << r["map"]["status"].get<std::string>() << ")\n";
   os << "  lmax                 " << d["lmax"] << "\n";
-  os << "  fit error mean/rms/max  " << e["mean"].get<double>() << " / " << e["rms"].get<double>() << " / "
-     << e["max"].get<double>() << "  (relative to bbox diagonal: " << e["rms_relative"].get<double>() << " rms)\n";
+  os << "  fit error mean/rms/max  " << json_number_or_nan(e["mean"]) << " / " << json_number_or_nan(e["rms"]) << " / "
+     << json_number_or_nan(e["max"]) << "  (relative to bbox diagonal: " << json_number_or_nan(e["rms_relative"])
+     << " rms)\n";
   os << "  invariants xi(l)    ";
-  for (const auto& xi : d["invariants"]) os << " " << xi.get<double>();
+  for (const auto& xi : d["invariants"]) os << " " << json_number_or_nan(xi);
   os << "\n  timings [s]          read " << t["read"].get<double>() << ", validate " << t["validate"].get<double>()
      << ", map " << t["map"].get<double>() << ", fit " << t["fit"].get<double>() << ", total "
      << t["total"].get<double>() << "\n";

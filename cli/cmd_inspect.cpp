@@ -15,45 +15,22 @@
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/validation/mesh_report.hpp"
+#include "server/error_mapping.hpp"
+#include "server/wire_json.hpp"
 
 namespace wish::cli {
 namespace {
+
+using server::json_number_or_nan;
 
 struct InspectOptions {
   std::vector<std::string> files;
   bool json = false;
 };
 
-nlohmann::json details_json(const ErrorDetails& details) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const auto& [key, value] : details) std::visit([&](const auto& v) { out[key] = v; }, value);
-  return out;
-}
-
-nlohmann::json report_json(const MeshReport& r) {
-  return {{"vertices", r.vertices},
-          {"edges", r.edges},
-          {"faces", r.faces},
-          {"components", r.components},
-          {"boundary_edges", r.boundary_edges},
-          {"nonmanifold_edges", r.nonmanifold_edges},
-          {"nonmanifold_vertices", r.nonmanifold_vertices},
-          {"euler_characteristic", r.euler_characteristic},
-          {"genus", r.genus ? nlohmann::json(*r.genus) : nlohmann::json(nullptr)},
-          {"degenerate_faces", r.degenerate_faces},
-          {"duplicate_faces", r.duplicate_faces},
-          {"unreferenced_vertices", r.unreferenced_vertices},
-          {"duplicate_vertices", r.duplicate_vertices},
-          {"orientation_consistent", r.orientation_consistent},
-          {"misoriented_edges", r.misoriented_edges},
-          {"signed_volume", r.signed_volume},
-          {"area", r.area},
-          {"bbox_min", r.bbox_min},
-          {"bbox_max", r.bbox_max}};
-}
-
 // One file: {"file", "valid", and either "error" or "format", "encoding", "notes", "input_report", "report",
-// "repairs", "issues"}.
+// "repairs", "issues"}. The reports, repairs, issues and errors use the service's encoders (server/wire_json.hpp,
+// server/error_mapping.hpp), so they have the shapes of proto/openapi.json.
 nlohmann::json inspect_file(const std::string& file) {
   nlohmann::json out = {{"file", file}};
   try {
@@ -64,16 +41,15 @@ nlohmann::json inspect_file(const std::string& file) {
     out["encoding"] = read.encoding == MeshEncoding::Ascii ? "ascii"
                       : read.encoding == MeshEncoding::BinaryBigEndian ? "binary_big_endian" : "binary_little_endian";
     out["notes"] = read.notes;
-    out["input_report"] = report_json(prepared.input_report);
-    out["report"] = report_json(prepared.report);
+    out["input_report"] = server::mesh_report_json(prepared.input_report);
+    out["report"] = server::mesh_report_json(prepared.report);
     out["repairs"] = nlohmann::json::array();
-    for (const auto& r : prepared.repairs) out["repairs"].push_back({{"code", r.code}, {"message", r.message}, {"count", r.count}});
+    for (const auto& r : prepared.repairs) out["repairs"].push_back(server::repair_json(r));
     out["issues"] = nlohmann::json::array();
-    for (const auto& i : prepared.issues)
-      out["issues"].push_back({{"code", i.code}, {"message", i.message}, {"details", details_json(i.details)}});
+    for (const auto& i : prepared.issues) out["issues"].push_back(server::issue_json(i));
   } catch (const WishError& e) {
     out["valid"] = false;
-    out["error"] = {{"code", e.code()}, {"category", to_string(e.category())}, {"message", e.what()}, {"details", details_json(e.details())}};
+    out["error"] = server::error_entry_json(e);
   }
   return out;
 }
@@ -101,12 +77,16 @@ void print_table(const nlohmann::json& result, std::ostream& os) {
   row("duplicate vertices", num("duplicate_vertices"));
   row("consistently oriented", r["orientation_consistent"].get<bool>() ? "yes" : "no (" + num("misoriented_edges") + " edges)");
   std::ostringstream geometry;
-  geometry << std::setprecision(6) << r["signed_volume"].get<double>() << " / " << r["area"].get<double>();
+  geometry << std::setprecision(6) << json_number_or_nan(r["signed_volume"]) << " / " << json_number_or_nan(r["area"]);
   row("signed volume / area", geometry.str());
   std::ostringstream box;
-  box << std::setprecision(6) << "[" << r["bbox_min"][0].get<double>() << ", " << r["bbox_min"][1].get<double>() << ", "
-      << r["bbox_min"][2].get<double>() << "] - [" << r["bbox_max"][0].get<double>() << ", " << r["bbox_max"][1].get<double>() << ", "
-      << r["bbox_max"][2].get<double>() << "]";
+  const auto xyz = [&](const nlohmann::json& v) {
+    box << "[" << json_number_or_nan(v[0]) << ", " << json_number_or_nan(v[1]) << ", " << json_number_or_nan(v[2]) << "]";
+  };
+  box << std::setprecision(6);
+  xyz(r["bbox_min"]);
+  box << " - ";
+  xyz(r["bbox_max"]);
   row("bounding box", box.str());
   for (const auto& note : result["notes"]) os << "  note:   " << note.get<std::string>() << "\n";
   for (const auto& repair : result["repairs"])

@@ -1,4 +1,4 @@
-// `wish map FILE --out sphere.ply [--method willmore|cmcf] [--steps N] [--json]`: conformal map of a closed genus-0
+// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]`: conformal map of a closed genus-0
 // mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
 // vertices) and prints the quality report; a map that fails verification is not written and exits with kExitInvalid.
 #include <chrono>
@@ -36,7 +36,8 @@ nlohmann::json quality_json(const MapQuality& q) {
           {"conformal_mean", q.conformal_mean},   {"conformal_p99", q.conformal_p99},
           {"conformal_max", q.conformal_max},     {"area_distortion", q.area_distortion},
           {"roundness", q.roundness},             {"mobius_centroid", q.mobius_centroid},
-          {"mobius_iterations", q.mobius_iterations}};
+          {"mobius_iterations", q.mobius_iterations}, {"min_face_height", q.min_face_height},
+          {"repaired_vertices", q.repaired_vertices}};
 }
 
 nlohmann::json result_json(const SphericalMapResult& r, const PreparedMesh& prepared, const MapArgs& args) {
@@ -49,7 +50,8 @@ nlohmann::json result_json(const SphericalMapResult& r, const PreparedMesh& prep
                        {"note", s.note}});
     attempts.push_back({{"method", to_string(a.method)}, {"filtered", a.filtered}, {"max_steps", a.max_steps},
                         {"status", to_string(a.status)}, {"failed_check", a.failed_check}, {"message", a.message},
-                        {"quality", quality_json(a.quality)}, {"steps", steps}, {"seconds", a.seconds}});
+                        {"quality", quality_json(a.quality)}, {"steps", steps}, {"seconds", a.seconds},
+                        {"map_verified", a.map_verified}});
   }
   nlohmann::json repairs = nlohmann::json::array();
   for (const RepairAction& a : prepared.repairs) repairs.push_back({{"code", a.code}, {"message", a.message}});
@@ -63,6 +65,7 @@ nlohmann::json result_json(const SphericalMapResult& r, const PreparedMesh& prep
           {"method", to_string(r.method_used)},
           {"quality", quality_json(r.quality)},
           {"attempts", attempts},
+          {"chosen_attempt", r.chosen_attempt},
           {"seconds", r.seconds}};
 }
 
@@ -79,7 +82,8 @@ void print_text(const SphericalMapResult& r, const PreparedMesh& prepared, const
   const MapQuality& q = r.quality;
   std::cout << "status     " << to_string(r.status) << (r.failed_check.empty() ? "" : " [" + r.failed_check + "]") << "\n"
             << "method     " << to_string(r.method_used) << "\n"
-            << "flips      " << q.flipped_faces << "  degenerate " << q.degenerate_faces << "  degree " << q.degree << "\n"
+            << "flips      " << q.flipped_faces << "  degenerate " << q.degenerate_faces << "  degree " << q.degree
+            << "  repaired vertices " << q.repaired_vertices << "\n"
             << "conformal  K mean " << q.conformal_mean << "  p99 " << q.conformal_p99 << "  max " << q.conformal_max << "\n"
             << "area       distortion " << q.area_distortion << "\n"
             << "roundness  " << q.roundness << "  (before projection)\n"
@@ -92,11 +96,12 @@ CommandRunner setup_map(CLI::App& sub) {
   auto args = std::make_shared<MapArgs>();
   sub.add_option("file", args->input, "Input mesh (OBJ, PLY, OFF, STL): closed, genus 0")->required();
   sub.add_option("--out,-o", args->output, "Sphere mesh to write (format from the extension)")->required();
-  sub.add_option("--method", args->method, "willmore (default) or cmcf")->check(CLI::IsMember({"willmore", "cmcf"}));
+  sub.add_option("--method", args->method, "willmore (default), cmcf or linear")
+      ->check(CLI::IsMember({"willmore", "cmcf", "linear"}));
   sub.add_option("--steps", args->steps, "Flow step cap (default: 20 for willmore, 30 for cmcf)")->check(CLI::PositiveNumber);
   sub.add_option("--solver", args->solver, "cholmod (default) or eigen")->check(CLI::IsMember({"cholmod", "eigen"}));
   sub.add_flag("--filtered", args->filtered, "Low-pass filtered Willmore flow (noisy segmentation meshes)");
-  sub.add_flag("--no-fallback", args->no_fallback, "Do not try more steps / filtered flow / cMCF on failure");
+  sub.add_flag("--no-fallback", args->no_fallback, "Do not try more steps / filtered flow / cMCF / linear method on failure");
   sub.add_option("--timeout", args->timeout, "Time limit in seconds (0: none)")->check(CLI::NonNegativeNumber);
   sub.add_flag("--json", args->json, "Print the report as JSON");
   return [args]() -> int {

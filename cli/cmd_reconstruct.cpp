@@ -1,7 +1,7 @@
 // `wish reconstruct DESCRIPTOR.json [--level 5] --out shape.ply [--index I]`: evaluates the SH surface of a
-// descriptor (cli/descriptor_json.hpp layout, or one entry / the I-th entry of `wish describe --json` output) on a
-// subdivided icosahedron (level 0..7: 10*4^level + 2 vertices) and writes it (format from the extension: .ply
-// binary, .obj, .off, .stl).
+// descriptor (server/wire_json.hpp layout: one entry / the I-th entry of `wish describe --json` output, or a
+// /v1/describe response with include=coefficients) on a subdivided icosahedron (level 0..7: 10*4^level + 2
+// vertices) and writes it (format from the extension: .ply binary, .obj, .off, .stl).
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
-#include "cli/descriptor_json.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/sh/sh_reconstruction.hpp"
+#include "server/wire_json.hpp"
 
 namespace wish::cli {
 namespace {
@@ -27,7 +27,7 @@ struct ReconstructOptions {
 
 CommandRunner setup_reconstruct(CLI::App& sub) {
   auto options = std::make_shared<ReconstructOptions>();
-  sub.add_option("descriptor", options->descriptor, "Descriptor JSON (from wish describe --json)")->required();
+  sub.add_option("descriptor", options->descriptor, "Descriptor JSON (from wish describe --json, or /v1/describe with include=coefficients)")->required();
   sub.add_option("--level", options->level, "Icosphere subdivision level")->check(CLI::Range(0, 7))->capture_default_str();
   sub.add_option("--out", options->out, "Output mesh (.ply, .obj, .off, .stl)")->required();
   sub.add_option("--index", options->index, "Entry of a describe --json array (default: the only entry)");
@@ -50,7 +50,7 @@ CommandRunner setup_reconstruct(CLI::App& sub) {
     }
     if (json.is_object() && json.contains("error"))
       throw InvalidInputError("invalid_descriptor", "the selected entry is a failed describe result");
-    const ShDescriptor d = descriptor_from_json(json);
+    const ShDescriptor d = server::descriptor_from_json(json);
     const Mesh mesh = reconstruct_on_icosphere(d, options->level);
     write_mesh_file(mesh, options->out);
     std::cout << "wrote " << options->out << ": " << mesh.vertex_count() << " vertices, " << mesh.face_count()

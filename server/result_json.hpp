@@ -1,7 +1,7 @@
 #pragma once
 // PipelineResult -> the DescribeResult JSON of proto/openapi.json (mesh, map, descriptor, prediction,
-// reconstruction, timings). Includes Eigen through pipeline.hpp: never include from an http_*.cpp file.
-// (cli/descriptor_json.{hpp,cpp} encodes descriptors for the CLI; the two should be merged once both settle.)
+// reconstruction, timings), assembled from the per-struct encoders of wire_json.hpp (shared with the CLI).
+// Includes Eigen through pipeline.hpp: never include from an http_*.cpp file.
 
 #include <string>
 
@@ -20,7 +20,6 @@ struct ResultJsonOptions {
   std::string model_name, model_version;    // for the prediction block
 };
 
-nlohmann::json mesh_report_json(const MeshReport& report);
 nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions& options);
 
 }  // namespace wish::server

@@ -44,21 +44,28 @@ void append_xyz(std::string& out, const Mesh& mesh, Eigen::Index v) {
   }
 }
 
-std::string write_obj(const Mesh& mesh) {
-  std::string out = "# written by WISH\n";
+// The text body of OBJ, OFF and ASCII PLY: one "<vertex_prefix>x y z" line per vertex, then one
+// "<face_prefix> i j k" line per face, indices counted from `first_index` (OBJ: "v ", "f", 1; OFF/PLY: "", "3", 0).
+void append_text_body(std::string& out, const Mesh& mesh, const char* vertex_prefix, char face_prefix,
+                      long long first_index) {
   for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
-    out += "v ";
+    out += vertex_prefix;
     append_xyz(out, mesh, v);
     out += '\n';
   }
   for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
-    out += 'f';
+    out += face_prefix;
     for (int k = 0; k < 3; ++k) {
       out += ' ';
-      append_number(out, static_cast<long long>(mesh.faces(f, k)) + 1);  // OBJ is 1-based
+      append_number(out, static_cast<long long>(mesh.faces(f, k)) + first_index);
     }
     out += '\n';
   }
+}
+
+std::string write_obj(const Mesh& mesh) {
+  std::string out = "# written by WISH\n";
+  append_text_body(out, mesh, "v ", 'f', 1);  // OBJ is 1-based
   return out;
 }
 
@@ -68,18 +75,7 @@ std::string write_off(const Mesh& mesh) {
   out += ' ';
   append_number(out, static_cast<long long>(mesh.face_count()));
   out += " 0\n";
-  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
-    append_xyz(out, mesh, v);
-    out += '\n';
-  }
-  for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
-    out += '3';
-    for (int k = 0; k < 3; ++k) {
-      out += ' ';
-      append_number(out, static_cast<long long>(mesh.faces(f, k)));
-    }
-    out += '\n';
-  }
+  append_text_body(out, mesh, "", '3', 0);
   return out;
 }
 
@@ -90,18 +86,7 @@ std::string write_ply(const Mesh& mesh, MeshEncoding encoding) {
          "\nproperty double x\nproperty double y\nproperty double z\nelement face " + std::to_string(mesh.face_count()) +
          "\nproperty list uchar int vertex_indices\nend_header\n";
   if (encoding == MeshEncoding::Ascii) {
-    for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
-      append_xyz(out, mesh, v);
-      out += '\n';
-    }
-    for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
-      out += '3';
-      for (int k = 0; k < 3; ++k) {
-        out += ' ';
-        append_number(out, static_cast<long long>(mesh.faces(f, k)));
-      }
-      out += '\n';
-    }
+    append_text_body(out, mesh, "", '3', 0);
     return out;
   }
   const bool big = encoding == MeshEncoding::BinaryBigEndian;

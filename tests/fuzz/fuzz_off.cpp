@@ -1,25 +1,6 @@
-// libFuzzer target for the OFF reader: any bytes must be read or refused with a WishError, with no sanitizer report.
-// Small limits keep each run fast; the format hint is OFF and, when the content is read, the mesh is also
-// analysed and prepared, so the validation code sees hostile meshes too.
-#include <cstddef>
-#include <cstdint>
-#include <string_view>
-
-#include "core/common/errors.hpp"
-#include "core/io/mesh_io.hpp"
-#include "core/validation/mesh_report.hpp"
+// libFuzzer target for the OFF reader (fuzz_reader.hpp).
+#include "fuzz_reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  wish::ReadOptions options;
-  options.hint = wish::MeshFormat::Off;
-  options.limits.max_vertices = 100'000;
-  options.limits.max_faces = 200'000;
-  options.limits.max_line_length = 1 << 16;
-  try {
-    const wish::ReadResult result = wish::read_mesh(std::string_view(reinterpret_cast<const char*>(data), size), options);
-    (void)wish::prepare_for_mapping(result.mesh);
-  } catch (const wish::WishError&) {
-    // Refusing is fine; anything else (another exception, a crash, a sanitizer report) is a bug.
-  }
-  return 0;
+  return wish::fuzz::fuzz_reader(wish::MeshFormat::Off, data, size);
 }

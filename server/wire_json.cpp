@@ -1,0 +1,214 @@
+#include "server/wire_json.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/common/errors.hpp"
+#include "core/sh/sh_basis.hpp"
+#include "core/sh/sh_invariants.hpp"
+#include "server/error_mapping.hpp"
+
+namespace wish::server {
+
+namespace {
+
+const char* const kAxes[3] = {"x", "y", "z"};
+
+nlohmann::json vec3(const std::array<double, 3>& v) { return {json_number(v[0]), json_number(v[1]), json_number(v[2])}; }
+
+nlohmann::json coefficient_column(const ShDescriptor& sh, int column) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index j = 0; j < sh.coefficients.rows(); ++j) {
+    const auto c = sh.coefficients(j, column);
+    out.push_back({json_number(c.real()), json_number(c.imag())});
+  }
+  return out;
+}
+
+[[noreturn]] void bad_descriptor(const std::string& what) {
+  throw InvalidInputError("invalid_descriptor", "invalid SH descriptor JSON: " + what);
+}
+
+}  // namespace
+
+nlohmann::json json_number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+double json_number_or_nan(const nlohmann::json& v) {
+  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+
+nlohmann::json mesh_report_json(const MeshReport& r) {
+  return {{"vertices", r.vertices},
+          {"edges", r.edges},
+          {"faces", r.faces},
+          {"components", r.components},
+          {"boundary_edges", r.boundary_edges},
+          {"nonmanifold_edges", r.nonmanifold_edges},
+          {"nonmanifold_vertices", r.nonmanifold_vertices},
+          {"euler_characteristic", r.euler_characteristic},
+          {"genus", r.genus ? nlohmann::json(*r.genus) : nlohmann::json(nullptr)},
+          {"degenerate_faces", r.degenerate_faces},
+          {"duplicate_faces", r.duplicate_faces},
+          {"unreferenced_vertices", r.unreferenced_vertices},
+          {"duplicate_vertices", r.duplicate_vertices},
+          {"orientation_consistent", r.orientation_consistent},
+          {"misoriented_edges", r.misoriented_edges},
+          {"signed_volume", json_number(r.signed_volume)},
+          {"area", json_number(r.area)},
+          {"bbox_min", vec3(r.bbox_min)},
+          {"bbox_max", vec3(r.bbox_max)}};
+}
+
+nlohmann::json repair_json(const RepairAction& r) {
+  return {{"code", r.code}, {"message", r.message}, {"count", r.count}};
+}
+
+nlohmann::json issue_json(const ValidationIssue& i) {
+  return {{"code", i.code}, {"message", i.message}, {"details", details_json(i.details)}};
+}
+
+nlohmann::json map_quality_json(const MapQuality& q) {
+  return {{"flipped_faces", q.flipped_faces},
+          {"degenerate_faces", q.degenerate_faces},
+          {"degree", q.degree},
+          {"min_face_area", json_number(q.min_face_area)},
+          {"conformal_mean", json_number(q.conformal_mean)},
+          {"conformal_p99", json_number(q.conformal_p99)},
+          {"conformal_max", json_number(q.conformal_max)},
+          {"area_distortion", json_number(q.area_distortion)},
+          {"roundness", json_number(q.roundness)},
+          {"mobius_centroid", json_number(q.mobius_centroid)}};
+}
+
+nlohmann::json map_attempt_json(const MapAttempt& a) {
+  nlohmann::json out{{"method", to_string(a.method)}, {"filtered", a.filtered},
+                     {"max_steps", a.max_steps},      {"status", to_string(a.status)},
+                     {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)}};
+  if (!a.failed_check.empty()) out["failed_check"] = a.failed_check;
+  if (!a.message.empty()) out["message"] = a.message;
+  return out;
+}
+
+nlohmann::json map_block_json(const SphericalMapResult& map, bool quality) {
+  nlohmann::json out{{"method", to_string(map.method_used)},
+                     {"status", to_string(map.status)},
+                     {"seconds", json_number(map.seconds)}};
+  if (quality) {
+    out["quality"] = map_quality_json(map.quality);
+    out["attempts"] = nlohmann::json::array();
+    for (const auto& a : map.attempts) out["attempts"].push_back(map_attempt_json(a));
+  }
+  return out;
+}
+
+nlohmann::json fit_options_json(const ShFitOptions& o) {
+  return {{"lmax", o.lmax},
+          {"regularization", o.regularization},
+          {"weighting", to_string(o.weighting)},
+          {"solver", to_string(o.solver)},
+          {"band_size", o.band_size},
+          {"gram", to_string(o.gram)}};
+}
+
+nlohmann::json fit_error_json(const FitError& e) {
+  return {{"mean", json_number(e.mean)},
+          {"rms", json_number(e.rms)},
+          {"max", json_number(e.max)},
+          {"mean_relative", json_number(e.mean_relative)},
+          {"rms_relative", json_number(e.rms_relative)},
+          {"max_relative", json_number(e.max_relative)}};
+}
+
+nlohmann::json descriptor_json(const ShDescriptor& d, const DescriptorJsonParts& parts) {
+  nlohmann::json out{{"lmax", d.lmax}, {"options", fit_options_json(d.options)}, {"fit_error", fit_error_json(d.fit_error)}};
+  if (parts.invariants) {
+    nlohmann::json inv = nlohmann::json::array();
+    for (Eigen::Index l = 0; l < d.invariants.size(); ++l) inv.push_back(json_number(d.invariants[l]));
+    out["invariants"] = std::move(inv);
+  }
+  if (parts.coefficients) {
+    out["index"] = "j = l^2 + l + m";
+    nlohmann::json coefficients = nlohmann::json::object();
+    for (int q = 0; q < 3; ++q) coefficients[kAxes[q]] = coefficient_column(d, q);
+    out["coefficients"] = std::move(coefficients);
+  }
+  return out;
+}
+
+ShDescriptor descriptor_from_json(const nlohmann::json& json) {
+  if (json.is_object() && json.contains("descriptor")) return descriptor_from_json(json["descriptor"]);
+  if (!json.is_object()) bad_descriptor("expected an object");
+  try {
+    ShDescriptor d;
+    if (!json.contains("lmax") || !json["lmax"].is_number_integer()) bad_descriptor("missing integer 'lmax'");
+    d.lmax = json["lmax"].get<int>();
+    if (d.lmax < 0 || d.lmax > kShMaxBasisLmax) bad_descriptor("'lmax' out of range");
+    const Eigen::Index k = sh_count(d.lmax);
+    if (json.contains("options")) {
+      const auto& o = json["options"];
+      d.options.lmax = o.value("lmax", d.lmax);
+      d.options.regularization = o.value("regularization", d.options.regularization);
+      d.options.weighting = fit_weighting_from_name(o.value("weighting", std::string("area")));
+      d.options.solver = fit_solver_from_name(o.value("solver", std::string("direct")));
+      d.options.band_size = o.value("band_size", d.options.band_size);
+      d.options.gram = gram_method_from_name(o.value("gram", std::string("quadrature")));
+    } else {
+      d.options.lmax = d.lmax;
+    }
+    if (!json.contains("coefficients") || !json["coefficients"].is_object())
+      bad_descriptor("missing object 'coefficients'");
+    d.coefficients.resize(k, 3);
+    for (int q = 0; q < 3; ++q) {
+      const auto& col = json["coefficients"].value(kAxes[q], nlohmann::json());
+      if (!col.is_array() || Eigen::Index(col.size()) != k)
+        bad_descriptor(std::string("'coefficients.") + kAxes[q] + "' must hold (lmax+1)^2 = " + std::to_string(k) +
+                       " pairs");
+      for (Eigen::Index j = 0; j < k; ++j) {
+        const auto& pair = col[size_t(j)];
+        if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number() || !pair[1].is_number())
+          bad_descriptor(std::string("'coefficients.") + kAxes[q] + "[" + std::to_string(j) + "]' is not [re, im]");
+        d.coefficients(j, q) = {pair[0].get<double>(), pair[1].get<double>()};
+      }
+    }
+    d.invariants = sh_invariants(d.coefficients);  // recomputed: always consistent with the coefficients
+    if (json.contains("fit_error")) {
+      const auto& e = json["fit_error"];
+      d.fit_error.mean = e.value("mean", 0.0);
+      d.fit_error.rms = e.value("rms", 0.0);
+      d.fit_error.max = e.value("max", 0.0);
+      d.fit_error.mean_relative = e.value("mean_relative", 0.0);
+      d.fit_error.rms_relative = e.value("rms_relative", 0.0);
+      d.fit_error.max_relative = e.value("max_relative", 0.0);
+    }
+    return d;
+  } catch (const nlohmann::json::exception& e) {
+    bad_descriptor(e.what());
+  }
+}
+
+nlohmann::json prediction_json(const Prediction& p, const std::string& model_name, const std::string& model_version) {
+  nlohmann::json probs = nlohmann::json::array();
+  for (const auto& [label, prob] : p.probabilities) probs.push_back({{"label", label}, {"probability", json_number(prob)}});
+  return {{"label", p.label},
+          {"probabilities", std::move(probs)},
+          {"margin", json_number(p.margin)},
+          {"model", {{"name", model_name}, {"version", model_version}}}};
+}
+
+nlohmann::json mesh_geometry_json(const Mesh& m) {
+  nlohmann::json vertices = nlohmann::json::array(), faces = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.vertices.rows(); ++i)
+    vertices.push_back({json_number(m.vertices(i, 0)), json_number(m.vertices(i, 1)), json_number(m.vertices(i, 2))});
+  for (Eigen::Index i = 0; i < m.faces.rows(); ++i) faces.push_back({m.faces(i, 0), m.faces(i, 1), m.faces(i, 2)});
+  return {{"vertices", std::move(vertices)}, {"faces", std::move(faces)}};
+}
+
+nlohmann::json timings_json(const StageTimings& t, bool classify) {
+  nlohmann::json out{{"read", t.read}, {"validate", t.validate}, {"map", t.map}, {"fit", t.fit}, {"total", t.total}};
+  if (classify) out["classify"] = t.classify;
+  return out;
+}
+
+}  // namespace wish::server
