@@ -1,0 +1,25 @@
+#!/bin/sh
+# Makes the bundled default model data/models/default.json from the SYNTHETIC demo set (issue 5): runs
+# `wish demo-data` (deterministic generator, core/synth) and then `wish train`. The model is trained on synthetic
+# nucleus-like shapes, not on real cells: see data/models/README.md.
+#   scripts/make-default-model.sh [path/to/wish]     env: PER_CLASS (12), JOBS (0 = all cores), OUT (data/models)
+set -eu
+here=$(cd "$(dirname "$0")/.." && pwd)
+wish=${1:-$here/build/release/cli/wish}
+out=${OUT:-$here/data/models}
+per_class=${PER_CLASS:-12}
+jobs=${JOBS:-0}
+[ -x "$wish" ] || { echo "make-default-model: no wish binary at $wish (build it, or pass its path)" >&2; exit 2; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$out"
+"$wish" demo-data --out "$tmp/demo" --per-class "$per_class" --seed 1 --quiet
+# A fixed timestamp keeps the file reproducible (same inputs, same bytes).
+SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-1704067200} "$wish" train "$tmp/demo" \
+  --lmax 5 --log --features invariants --seed 42 --jobs "$jobs" --quiet \
+  --name wish-default-synthetic \
+  --out "$out/default.json" --report "$out/default-report.json" --heatmap "$out/default-grid.svg" \
+  --save-descriptors "$tmp/descriptors.csv"
+# Descriptor paths are machine-specific temporaries: keep class/file names only.
+sed "s#$tmp/demo/##" "$tmp/descriptors.csv" > "$out/demo-descriptors.csv"
+echo "wrote $out/default.json (SYNTHETIC demo model)"
