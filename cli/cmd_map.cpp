@@ -1,5 +1,5 @@
-// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]`: conformal map of a closed genus-0
-// mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
+// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]`: conformal map of a closed
+// genus-0 mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
 // vertices) and prints the quality report; a map that fails verification is not written and exits with kExitInvalid.
 #include <chrono>
 #include <iostream>

@@ -82,9 +82,17 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
     result.vertices = x;
     result.roundness = rec.roundness;
     result.energy = rec.energy;
+    const double previous = step > 1 ? result.steps[result.steps.size() - 2].roundness : result.initial_roundness;
     converged = rec.roundness < options.roundness_tolerance;
+    if (!converged && step >= options.min_steps_before_stall &&
+        previous - rec.roundness < options.roundness_stall * previous) {
+      // Stalled: R no longer falls (Kazhdan et al. run to this point); judged by verification like a plateau.
+      result.message = "stalled: roundness " + std::to_string(rec.roundness) + " after " + std::to_string(step) + " steps";
+      return result;
+    }
   }
   if (!converged) {
+    result.hit_step_cap = true;
     result.status = MapStatus::NotConverged;
     result.failed_check = "roundness";
     result.message = "cMCF roundness " + std::to_string(result.roundness) + " above tolerance " +

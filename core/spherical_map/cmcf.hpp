@@ -3,8 +3,9 @@
 // Semi-implicit MCF with the stiffness frozen at the input:  (M_t + δ L₀) x_{t+1} = M_t x_t,
 // L₀ = PSD cot Laplacian of the (area-4π normalised) input, M_t = lumped mass of the current surface; after each
 // step centre on the area-weighted centroid and rescale to area 4π. δ is in units of area at total area 4π
-// (δ ≈ 1 ⇔ δ ≈ A/4π for the raw mesh). Stops when roundness < roundness_tolerance (Ok) or at max_steps
-// (NotConverged, failed_check "roundness"). One V×V factorisation per step; symbolic analysis once.
+// (δ ≈ 1 ⇔ δ ≈ A/4π for the raw mesh). Stops when roundness < roundness_tolerance (Ok), when R falls by less than
+// roundness_stall per step (stalled, Ok with "stalled" in the message: judged by verification), or at max_steps
+// (NotConverged, failed_check "roundness", hit_step_cap). One V×V factorisation per step; symbolic analysis once.
 
 #include "core/common/deadline.hpp"
 #include "core/mesh/mesh.hpp"

@@ -19,6 +19,8 @@ struct FlowResult {
   std::string message;
   double initial_energy = 0, energy = 0;  // Willmore energy Σ M_i H_i² before / after
   double initial_roundness = 0, roundness = 0;
+  bool on_sphere = false;             // vertices are already the sphere map (linear method): no radial projection
+  bool hit_step_cap = false;          // ran out of steps while still improving (so "more steps" may help)
 };
 
 // Centre `x` on its area-weighted centroid and scale it to total area 4π (so the flow's limit is the unit sphere).

@@ -33,14 +33,18 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
   const Eigen::Index nf = faces.rows();
   double input_area = 0, sphere_area = 0, solid_angle = 0;
   std::vector<double> in_area(static_cast<size_t>(nf)), out_area(static_cast<size_t>(nf));
-  q.min_face_area = std::numeric_limits<double>::infinity();
+  q.min_face_area = q.min_face_height = std::numeric_limits<double>::infinity();
   for (Eigen::Index f = 0; f < nf; ++f) {
     const Eigen::Vector3d a = sphere.row(faces(f, 0)), b = sphere.row(faces(f, 1)), c = sphere.row(faces(f, 2));
     const Eigen::Vector3d n = (b - a).cross(c - a);
     if (!(n.dot(a + b + c) > 0)) ++q.flipped_faces;
     const double area = 0.5 * n.norm();
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const double height = longest > 0 ? 2.0 * area / longest : 0.0;
     q.min_face_area = std::min(q.min_face_area, area);
-    if (!(area >= thresholds.degenerate_area * 4.0 * std::numbers::pi)) ++q.degenerate_faces;
+    q.min_face_height = std::min(q.min_face_height, height);
+    if (!(height >= thresholds.degenerate_height) || !(area >= thresholds.degenerate_area * 4.0 * std::numbers::pi))
+      ++q.degenerate_faces;
     const double num = a.dot(b.cross(c));
     const double den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
     solid_angle += 2.0 * std::atan2(num, den);

@@ -1,7 +1,9 @@
 #pragma once
 // Verification of a sphere map u: input mesh → S² (spherical-map.md §7). Fills MapQuality:
 //  * flipped faces: (a,b,c) inverted iff ((u_b − u_a)×(u_c − u_a))·(u_a + u_b + u_c) ≤ 0 — must be 0;
-//  * degenerate faces: flat spherical-triangle area < thresholds.degenerate_area · 4π;
+//  * degenerate faces: numerically degenerate sphere triangles, whose orientation (the flip test) is not reliable in
+//    double precision: smallest height 2·area/longest edge < thresholds.degenerate_height (see there), or area
+//    below the optional floor thresholds.degenerate_area · 4π;
 //  * degree: Σ signed solid angles / 4π, rounded (Van Oosterom–Strackee); +1 for a bijective, orientation-
 //    preserving map;
 //  * conformal distortion K_f = σ₁/σ₂ ≥ 1 of the affine map input triangle → sphere triangle (mean, p99, max);

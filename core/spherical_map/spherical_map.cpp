@@ -1,5 +1,7 @@
 // compute_spherical_map(): flow → radial projection → Möbius balancing → verification, with the fallback chain
-// (spherical-map.md §7): more steps → filtered flow → cMCF (for method Willmore), every attempt recorded.
+// (spherical-map.md §7): (i) step rejection with halved τ (inside the flows), (ii) more steps (continuing the
+// flowed surface), (iii) the filtered flow, (iv) cMCF run to convergence, (v) the linear method (§8.2), each
+// followed by Möbius balancing and verification; every attempt recorded; first Ok attempt or least-bad returned.
 #include "core/spherical_map/spherical_map.hpp"
 
 #include <chrono>
@@ -12,8 +14,10 @@
 #include "core/geometry/roundness.hpp"
 #include "core/geometry/vertex_pattern.hpp"
 #include "core/spherical_map/cmcf.hpp"
+#include "core/spherical_map/linear_map.hpp"
 #include "core/spherical_map/map_verification.hpp"
 #include "core/spherical_map/mobius.hpp"
+#include "core/spherical_map/untangle.hpp"
 #include "core/spherical_map/willmore_flow.hpp"
 
 namespace wish {
@@ -22,6 +26,7 @@ const char* to_string(MapMethod method) {
   switch (method) {
     case MapMethod::Willmore: return "willmore";
     case MapMethod::Cmcf: return "cmcf";
+    case MapMethod::Linear: return "linear";
   }
   return "?";
 }
@@ -29,7 +34,8 @@ const char* to_string(MapMethod method) {
 MapMethod map_method_from_name(const std::string& name) {
   if (name == "willmore") return MapMethod::Willmore;
   if (name == "cmcf") return MapMethod::Cmcf;
-  throw InvalidInputError("invalid_parameter", "unknown map method '" + name + "' (expected willmore or cmcf)",
+  if (name == "linear") return MapMethod::Linear;
+  throw InvalidInputError("invalid_parameter", "unknown map method '" + name + "' (expected willmore, cmcf or linear)",
                           {{"method", name}});
 }
 
@@ -79,40 +85,62 @@ struct AttemptPlan {
   MapMethod method;
   bool filtered;
   int max_steps;
+  int continue_from = -1;  // Willmore: continue the flowed surface of this earlier attempt
+  bool clamp = false;      // linear: always use the clamped (all-positive) weights
 };
 
 MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const SphericalMapOptions& options,
-                       const Eigen::VectorXd& input_mass, const Deadline& deadline, Eigen::MatrixX3d& sphere) {
+                       const Eigen::VectorXd& input_mass, const Deadline& deadline, const Eigen::MatrixX3d* start,
+                       Eigen::MatrixX3d& flowed, Eigen::MatrixX3d& sphere) {
   const Clock::time_point t0 = Clock::now();
   MapAttempt attempt;
   attempt.method = plan.method;
   attempt.filtered = plan.filtered;
   attempt.max_steps = plan.max_steps;
+  attempt.continued_from = start ? plan.continue_from : -1;
   spherical::FlowResult flow;
   if (plan.method == MapMethod::Willmore) {
     WillmoreOptions w = options.willmore;
     w.filtered = plan.filtered;
-    w.max_steps = plan.max_steps;
-    flow = spherical::willmore_flow(mesh, w, options.solver, deadline);
-  } else {
+    w.max_steps = start ? plan.max_steps - options.willmore.max_steps : plan.max_steps;
+    flow = spherical::willmore_flow(mesh, w, options.solver, deadline, start);
+  } else if (plan.method == MapMethod::Cmcf) {
     CmcfOptions c = options.cmcf;
     c.max_steps = plan.max_steps;
     flow = spherical::cmcf_flow(mesh, c, options.solver, deadline);
+  } else {
+    LinearMapOptions l = options.linear;
+    l.always_clamp = l.always_clamp || plan.clamp;
+    flow = spherical::linear_map(mesh, l, options.solver);
   }
   attempt.steps = std::move(flow.steps);
-  attempt.hit_step_cap = flow.status == MapStatus::NotConverged && flow.failed_check == "roundness";
-  // Radial projection about the area-weighted centroid, then Möbius balancing with input vertex areas.
-  const Eigen::VectorXd mass = geometry::lumped_mass(flow.vertices, mesh.faces);
-  const Eigen::Vector3d c = geometry::area_weighted_centroid(flow.vertices, mass);
-  sphere = flow.vertices.rowwise() - c.transpose();
-  sphere.rowwise().normalize();
+  attempt.hit_step_cap = flow.hit_step_cap;
+  if (flow.on_sphere) {
+    sphere = flow.vertices;  // the linear method maps to the sphere directly
+  } else {
+    // Radial projection about the area-weighted centroid, then Möbius balancing with input vertex areas.
+    const Eigen::VectorXd mass = geometry::lumped_mass(flow.vertices, mesh.faces);
+    const Eigen::Vector3d c = geometry::area_weighted_centroid(flow.vertices, mass);
+    sphere = flow.vertices.rowwise() - c.transpose();
+    sphere.rowwise().normalize();
+  }
+  flowed = std::move(flow.vertices);
   spherical::MobiusResult mobius;
-  if (sphere.allFinite()) mobius = spherical::mobius_balance(sphere, input_mass);
+  long repaired = 0;
+  if (sphere.allFinite()) {
+    mobius = spherical::mobius_balance(sphere, input_mass);
+    if (options.untangle) {
+      repaired = spherical::untangle_sphere_map(sphere, mesh.faces, options.verification).moved_vertices;
+      if (repaired > 0) mobius = spherical::mobius_balance(sphere, input_mass);  // the repair moved the centroid a bit
+    }
+  }
   attempt.quality = spherical::measure_map(mesh.vertices, mesh.faces, sphere, options.verification);
+  attempt.quality.repaired_vertices = repaired;
   attempt.quality.roundness = flow.roundness;
   attempt.quality.mobius_centroid = mobius.centroid;
   attempt.quality.mobius_iterations = mobius.iterations;
   const std::string failed = spherical::failed_map_check(attempt.quality, options.verification);
+  attempt.map_verified = failed.empty() && flow.status != MapStatus::SolverFailed;
   if (flow.status == MapStatus::SolverFailed) {
     attempt.status = MapStatus::SolverFailed;
     attempt.failed_check = flow.failed_check;
@@ -133,9 +161,23 @@ MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const Spherica
     attempt.status = MapStatus::NotConverged;
     attempt.failed_check = "mobius";
     attempt.message = "Möbius balancing stopped at centroid " + std::to_string(mobius.centroid);
+  } else {
+    attempt.message = flow.message;  // e.g. "stalled: ..." — a stalled flow whose map verifies is Ok
   }
   attempt.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return attempt;
+}
+
+// Strictly better map for the "least bad" choice when no attempt is Ok (earlier attempts win ties).
+bool less_bad(const MapAttempt& a, const MapAttempt& b) {
+  if (a.map_verified != b.map_verified) return a.map_verified;
+  if (a.map_verified) return a.quality.conformal_p99 < b.quality.conformal_p99;
+  const MapQuality &p = a.quality, &q = b.quality;
+  if (p.non_finite_vertices != q.non_finite_vertices) return p.non_finite_vertices < q.non_finite_vertices;
+  if (p.flipped_faces != q.flipped_faces) return p.flipped_faces < q.flipped_faces;
+  if ((p.degree == 1) != (q.degree == 1)) return p.degree == 1;
+  if (p.degenerate_faces != q.degenerate_faces) return p.degenerate_faces < q.degenerate_faces;
+  return p.conformal_p99 < q.conformal_p99;
 }
 
 }  // namespace
@@ -145,42 +187,79 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   check_preconditions(mesh);
   const Eigen::VectorXd input_mass = geometry::lumped_mass(mesh.vertices, mesh.faces);
 
+  // The chain (spherical-map.md §7). A plan is skipped when it cannot help: "more steps" only after a flow that ran
+  // out of steps (it continues that flow's surface instead of starting over).
+  const int n = options.willmore.max_steps;
+  const AttemptPlan willmore{MapMethod::Willmore, options.willmore.filtered, n};
+  const AttemptPlan cmcf{MapMethod::Cmcf, false, options.cmcf.max_steps};
+  const AttemptPlan cmcf_long{MapMethod::Cmcf, false, std::max(options.cmcf.max_steps, options.cmcf.fallback_max_steps)};
+  const AttemptPlan linear{MapMethod::Linear, false, 1};
+  const AttemptPlan linear_clamped{MapMethod::Linear, false, 1, -1, true};
   std::vector<AttemptPlan> plans;
   if (options.method == MapMethod::Willmore) {
-    const int n = options.willmore.max_steps;
-    plans.push_back({MapMethod::Willmore, options.willmore.filtered, n});
+    plans.push_back(willmore);
     if (options.fallback) {
-      plans.push_back({MapMethod::Willmore, options.willmore.filtered, 2 * n});  // more steps
-      if (!options.willmore.filtered) plans.push_back({MapMethod::Willmore, true, 2 * n});
-      plans.push_back({MapMethod::Cmcf, false, options.cmcf.max_steps});
-      plans.push_back({MapMethod::Cmcf, false, 3 * options.cmcf.max_steps});
+      plans.push_back({MapMethod::Willmore, options.willmore.filtered, 2 * n, 0});  // (ii) more steps
+      if (!options.willmore.filtered) plans.push_back({MapMethod::Willmore, true, 2 * n});  // (iii) filtered
+      plans.push_back(cmcf_long);                                                            // (iv) cMCF
+      plans.push_back(linear);                                                               // (v) linear
+      plans.push_back(linear_clamped);                                                       //     clamped
+    }
+  } else if (options.method == MapMethod::Cmcf) {
+    plans.push_back(cmcf);
+    if (options.fallback) {
+      if (cmcf_long.max_steps > cmcf.max_steps) plans.push_back(cmcf_long);
+      plans.push_back(willmore);
+      plans.push_back(linear);
+      plans.push_back(linear_clamped);
     }
   } else {
-    plans.push_back({MapMethod::Cmcf, false, options.cmcf.max_steps});
+    plans.push_back(linear);
     if (options.fallback) {
-      plans.push_back({MapMethod::Cmcf, false, 3 * options.cmcf.max_steps});
-      plans.push_back({MapMethod::Willmore, false, options.willmore.max_steps});
-      plans.push_back({MapMethod::Willmore, true, 2 * options.willmore.max_steps});
+      plans.push_back(linear_clamped);
+      plans.push_back(willmore);
+      plans.push_back(cmcf_long);
     }
   }
 
   SphericalMapResult result;
+  std::vector<Eigen::MatrixX3d> flowed(plans.size());
+  Eigen::MatrixX3d best_sphere;
   for (size_t k = 0; k < plans.size(); ++k) {
-    // "More steps" only helps a flow that ran out of steps; skip it otherwise (it would repeat the same run).
-    if (k > 0 && plans[k].method == plans[k - 1].method && plans[k].filtered == plans[k - 1].filtered &&
+    const AttemptPlan& plan = plans[k];
+    const Eigen::MatrixX3d* start = nullptr;
+    if (plan.continue_from >= 0) {
+      const MapAttempt& previous = result.attempts[static_cast<size_t>(plan.continue_from)];
+      if (!previous.hit_step_cap || previous.status == MapStatus::SolverFailed) continue;
+      start = &flowed[static_cast<size_t>(plan.continue_from)];
+    }
+    // The clamped linear map after a linear attempt that was already clamped would repeat the same run.
+    if (plan.clamp && !options.linear.always_clamp && !result.attempts.empty() &&
+        result.attempts.back().method == MapMethod::Linear &&
+        result.attempts.back().message.find("clamped") != std::string::npos)
+      continue;
+    // cMCF run long after a short cMCF that did not hit its cap would repeat the same run.
+    if (k > 0 && plan.method == MapMethod::Cmcf && plans[k - 1].method == MapMethod::Cmcf &&
         !result.attempts.back().hit_step_cap)
       continue;
     deadline.check("spherical map attempt");
     Eigen::MatrixX3d sphere;
-    MapAttempt attempt = run_attempt(mesh, plans[k], options, input_mass, deadline, sphere);
-    result.sphere = std::move(sphere);
-    result.status = attempt.status;
-    result.failed_check = attempt.failed_check;
-    result.quality = attempt.quality;
-    result.method_used = attempt.method;
+    MapAttempt attempt = run_attempt(mesh, plan, options, input_mass, deadline, start, flowed[k], sphere);
+    const bool first = result.attempts.empty();
+    const bool ok = attempt.status == MapStatus::Ok;
+    if (first || ok || less_bad(attempt, result.attempts[static_cast<size_t>(result.chosen_attempt)])) {
+      result.chosen_attempt = static_cast<int>(result.attempts.size());
+      best_sphere = std::move(sphere);
+    }
     result.attempts.push_back(std::move(attempt));
-    if (result.status == MapStatus::Ok) break;
+    if (ok) break;
   }
+  const MapAttempt& chosen = result.attempts[static_cast<size_t>(result.chosen_attempt)];
+  result.sphere = std::move(best_sphere);
+  result.status = chosen.status;
+  result.failed_check = chosen.failed_check;
+  result.quality = chosen.quality;
+  result.method_used = chosen.method;
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return result;
 }

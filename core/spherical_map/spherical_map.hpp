@@ -1,9 +1,13 @@
 #pragma once
 // Conformal map of a closed genus-0 mesh onto the unit sphere (paper §4; ../shared/design/spherical-map.md).
 // Entry point: compute_spherical_map(). Methods: discrete Willmore flow in curvature space with spin
-// transformations (Crane, Pinkall, Schröder 2013) and conformalized mean curvature flow (Kazhdan et al. 2012).
+// transformations (Crane, Pinkall, Schröder 2013), conformalized mean curvature flow (Kazhdan et al. 2012) and the
+// linear puncture/harmonic/stereographic method (FLASH, Choi et al. 2015; bijective by construction).
 // Every map is projected to the sphere, Möbius-normalised (area-centre balancing with input vertex areas as
-// weights) and verified; a map that fails verification is never reported as Ok.
+// weights) and verified; a map that fails verification is never reported as Ok. With `fallback`, a failed attempt
+// is followed by the chain of spherical-map.md §7 (more steps → filtered flow → cMCF → linear method), stopping at
+// the first Ok attempt; every attempt is recorded, and the returned map is the first Ok attempt or, when none is
+// Ok, the least-bad one (see SphericalMapResult).
 //
 // Preconditions: the mesh passed prepare_for_mapping() (closed, manifold, one component, genus 0, outward).
 
@@ -17,17 +21,28 @@
 
 namespace wish {
 
-enum class MapMethod { Willmore, Cmcf };
+enum class MapMethod { Willmore, Cmcf, Linear };
 enum class LinearSolverKind { Cholmod, EigenSimplicial };
 
 const char* to_string(MapMethod method);
-MapMethod map_method_from_name(const std::string& name);  // "willmore" | "cmcf"; throws InvalidInputError
+MapMethod map_method_from_name(const std::string& name);  // "willmore" | "cmcf" | "linear"; throws InvalidInputError
 
 struct WillmoreOptions {
   double tau = 0.95;                 // dimensionless step: rho = -tau * P(H) (spherical-map.md §3)
   int max_steps = 20;                // step cap (the paper uses 10 on nuclei)
   double roundness_tolerance = 2e-3; // stop when std(r)/mean(r) falls below
-  double energy_tolerance = 1e-4;    // ... or when the relative energy decrease per step falls below
+  // ... or when the relative energy decrease per step falls below (a stalled flow: the map is then accepted if it
+  // verifies — bijective, bounded distortion — whatever the roundness; coarse meshes plateau at R ~ 1e-2).
+  // A step whose energy rises for every tau down to min_tau is the same kind of stall.
+  double energy_tolerance = 1e-4;
+  // Added: ... or when the roundness falls by less than this fraction in a step (R plateau). A healthy flow halves R
+  // per step (spherical-map.md §9); on coarse or staircase meshes R levels off at ~1e-2 while the energy keeps
+  // creeping down by ~0.5 %/step and K slowly drifts (cf. the peanut in §9: "stop early rather than iterating
+  // long"). Same treatment as an energy plateau: a stop, judged by verification. Only while the energy also falls
+  // by less than roundness_stall_energy per step: an R that stalls or rises while E still drops fast (homer, spool:
+  // −20…−80 %/step) is the flow reshaping the surface, not a plateau.
+  double roundness_stall = 0.05;
+  double roundness_stall_energy = 0.05;
   double min_tau = 0.05;             // step rejection halves tau down to this, then gives up
   bool filtered = false;             // low-pass filtered flow for noisy segmentation meshes
   double filter_strength = 2.0;      // sigma = filter_strength * (mean edge length)^2
@@ -44,10 +59,37 @@ struct CmcfOptions {
   double delta = 1.0;                // time step at total area 4*pi
   int max_steps = 30;
   double roundness_tolerance = 5e-3;
+  // Added: stop (stalled; accepted if the map verifies) when, after min_steps_before_stall steps, R decreases by
+  // less than this fraction per step.
+  double roundness_stall = 1e-3;
+  int min_steps_before_stall = 10;
+  // Added: step cap when cMCF runs as a fallback of the Willmore flow: cheap per step (one V×V factorisation), so
+  // it is run (nearly) to convergence as Kazhdan et al. do.
+  int fallback_max_steps = 200;
+};
+
+// Added: the linear method (spherical-map.md §8.2; linear_map.hpp).
+struct LinearMapOptions {
+  // Cot weights below min_weight × mean |w| are raised to it: all weights positive ⇒ Tutte/Floater embedding.
+  double min_weight = 1e-3;
+  // Use the clamped weights even when the plain cot map is a planar embedding (the chain's second linear attempt:
+  // a plain map can still fail on the sphere, e.g. near-180° angles whose flat chord triangles face the origin).
+  bool always_clamp = false;
 };
 
 struct MapVerificationThresholds {
-  double degenerate_area = 1e-12;    // spherical triangle area below this * 4*pi counts as degenerate
+  // A sphere triangle is NUMERICALLY degenerate when its orientation cannot be trusted in double precision: the
+  // flip test's determinant ((u_b − u_a)×(u_c − u_a))·(u_a + u_b + u_c) = 6·volume carries a rounding error of a
+  // few ulps (ε ≈ 1.1e-16) times the edge lengths, so its sign is reliable only while the triangle's smallest
+  // height h = 2·area/(longest edge) is well above ε on the unit sphere. Faces with h < degenerate_height (≈ 90 ε:
+  // one more rounding of the coordinates — a Möbius map, a renormalisation — could carry the apex across the
+  // opposite edge) count as degenerate. A merely TINY triangle is no failure: conformal maps compress long
+  // protrusions exponentially, and areas of 1e-15…1e-25 with heights ≫ ε are exact, bijective parts of the maps of
+  // armadillo, bunny, cactus, bull; the smallest area is reported as min_face_area.
+  double degenerate_height = 1e-14;
+  // Optional absolute floor kept for callers that want one: area below this * 4*pi also counts as degenerate
+  // (0 = off; it was 1e-12, which flagged exact, bijective maps of long shapes).
+  double degenerate_area = 0;
   double max_conformal_p99 = 5.0;    // quasi-conformal ratio K (p99) above this fails verification
 };
 
@@ -55,8 +97,11 @@ struct SphericalMapOptions {
   MapMethod method = MapMethod::Willmore;
   WillmoreOptions willmore;
   CmcfOptions cmcf;
+  LinearMapOptions linear;
   LinearSolverKind solver = LinearSolverKind::Cholmod;
-  bool fallback = true;              // on failure: more steps, then the filtered flow, then cMCF
+  bool fallback = true;              // on failure: more steps, the filtered flow, cMCF, the linear method (§7)
+  // Added: before verification, relax the few vertices around flipped / numerically degenerate faces (untangle.hpp).
+  bool untangle = true;
   MapVerificationThresholds verification;
 };
 
@@ -66,12 +111,16 @@ struct MapQuality {
   long degenerate_faces = 0;
   int degree = 0;                    // signed sphere area / 4*pi rounded; +1 for an orientation-preserving cover
   double min_face_area = 0;          // smallest spherical triangle area (unit sphere)
+  double min_face_height = 0;        // Added: smallest 2·area/(longest edge) (unit sphere); see degenerate_height
   double conformal_mean = 0, conformal_p99 = 0, conformal_max = 0;  // per-face K = sigma1/sigma2 >= 1
   double area_distortion = 0;        // exp(mean |log(area ratio)|), areas normalised to equal totals
   double roundness = 0;              // std(r)/mean(r) of the flowed surface before projection
   double mobius_centroid = 0;        // |sum w_i u_i| after Möbius balancing
   long non_finite_vertices = 0;      // NaN/Inf sphere positions (any > 0 fails verification)
   int mobius_iterations = 0;         // iterations of the area-centre balancing
+  // Added: vertices moved by the local repair of a few flipped / numerically degenerate faces (untangle.hpp);
+  // 0 when the map verified as computed.
+  long repaired_vertices = 0;
 };
 
 // One flow step, accepted or rejected.
@@ -109,6 +158,8 @@ struct MapAttempt {
   std::vector<FlowStepRecord> steps;
   double seconds = 0;
   bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
+  bool map_verified = false;         // Added: the map passed verification (it may still be NotConverged)
+  int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
 };
 
 struct SphericalMapResult {
@@ -117,7 +168,11 @@ struct SphericalMapResult {
   std::string failed_check;          // empty when Ok
   MapQuality quality;
   MapMethod method_used = MapMethod::Willmore;
-  std::vector<MapAttempt> attempts;  // in order; the last one produced `sphere`
+  // In order. `sphere` is the map of attempts[chosen_attempt]: the first Ok attempt (the chain stops there), or,
+  // when none is Ok, the least-bad one — a verified map of a not-converged flow first (lowest K p99), else the one
+  // with the fewest non-finite, flipped and degenerate faces — with that attempt's (not Ok) status.
+  std::vector<MapAttempt> attempts;
+  int chosen_attempt = 0;            // Added
   double seconds = 0;
   bool ok() const { return status == MapStatus::Ok; }
 };

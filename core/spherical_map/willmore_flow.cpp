@@ -128,7 +128,7 @@ void normalise_area_and_centre(Eigen::MatrixX3d& x, const Eigen::MatrixX3i& face
 }
 
 FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver_kind,
-                         const Deadline& deadline) {
+                         const Deadline& deadline, const Eigen::MatrixX3d* start) {
   FlowResult result;
   const Eigen::MatrixX3i& faces = mesh.faces;
   const geometry::VertexPattern pattern = geometry::build_vertex_pattern(mesh.vertex_count(), faces);
@@ -141,7 +141,7 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
   eigen_options.max_iterations = options.max_inverse_iterations;
 
   SurfaceState state;
-  state.x = mesh.vertices;
+  state.x = start ? *start : mesh.vertices;
   normalise_area_and_centre(state.x, faces);
   state.laplacian = pattern.pattern;
   update_state(pattern, faces, state);
@@ -258,10 +258,16 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
         result.steps.push_back(rec);
         tau *= 0.5;
         if (std::abs(tau) < options.min_tau) {
-          result.status = MapStatus::NotConverged;
-          result.failed_check = reject;
           result.message = "step " + std::to_string(step) + " rejected (" + reject + ") down to tau " +
                            std::to_string(tau * 2) + " < 2*min_tau";
+          if (reject == "energy") {
+            // No step of any size lowers the energy: the flow has stalled at its discrete minimum. Like an energy
+            // plateau this is a stop, not a failure; the map is judged by verification (spherical-map.md §7).
+            result.message = "stalled: " + result.message;
+          } else {
+            result.status = MapStatus::NotConverged;
+            result.failed_check = reject;
+          }
           stopped = true;
           break;
         }
@@ -269,7 +275,7 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
       }
       accepted = true;
       result.steps.push_back(rec);
-      const double previous_energy = state.energy;
+      const double previous_energy = state.energy, previous_roundness = state.roundness;
       state = std::move(next);
       result.vertices = state.x;
       result.energy = state.energy;
@@ -278,10 +284,18 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
         stopped = true;
       } else if ((previous_energy - state.energy) < options.energy_tolerance * previous_energy) {
         stopped = true;  // energy plateau: further steps change nothing
+        result.message = "stalled: energy decrease below " + std::to_string(options.energy_tolerance) +
+                         " at roundness " + std::to_string(state.roundness);
+      } else if (previous_roundness - state.roundness < options.roundness_stall * previous_roundness &&
+                 previous_energy - state.energy < options.roundness_stall_energy * previous_energy) {
+        stopped = true;  // roundness plateau
+        result.message = "stalled: roundness " + std::to_string(state.roundness) + " fell by less than " +
+                         std::to_string(options.roundness_stall) + " of itself in step " + std::to_string(step);
       }
     }
   }
   if (result.status == MapStatus::Ok && !stopped && state.roundness >= options.roundness_tolerance) {
+    result.hit_step_cap = true;
     result.status = MapStatus::NotConverged;
     result.failed_check = "roundness";
     result.message = "roundness " + std::to_string(state.roundness) + " above tolerance " +

@@ -10,7 +10,9 @@
 // A step is rejected (τ halved, down to min_tau) if the energy rises by more than energy_increase_tolerance, the
 // eigen-residual stays above max_eigen_residual, or anything turns non-finite. The flow stops when the roundness
 // falls below roundness_tolerance (converged), the relative energy decrease falls below energy_tolerance
-// (plateau, also a stop), or at max_steps (NotConverged, failed_check "roundness").
+// (plateau, also a stop), R falls by less than roundness_stall of itself (R plateau, also a stop), no step down to min_tau lowers the energy (stall, also a stop; a stall is status Ok with
+// "stalled" in the message: the map is accepted only if it verifies), or at max_steps (NotConverged, failed_check
+// "roundness", hit_step_cap).
 // Symbolic factorisations (Dirac, pinned L, filter) are done once per call; numeric ones once per step.
 
 #include "core/common/deadline.hpp"
@@ -20,7 +22,9 @@
 
 namespace wish::spherical {
 
+// `start` (optional): flowed positions to continue from (input connectivity), e.g. the surface of an earlier
+// attempt that ran out of steps ("more steps" in the fallback chain) — saves re-running those steps.
 FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver,
-                         const Deadline& deadline = {});
+                         const Deadline& deadline = {}, const Eigen::MatrixX3d* start = nullptr);
 
 }  // namespace wish::spherical
