@@ -11,8 +11,8 @@ bash scripts/install-deps.sh
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j "$(nproc)" --target wish
 
-example=data/meshes/nucleus-example.obj
-[[ -f $example ]] || example=$(ls data/meshes/*.off | head -n 1)
+example=data/meshes/celegans_cell.obj
+
 cat <<MSG
 
 WISH is starting on http://127.0.0.1:${port} with the models in ${models}/.

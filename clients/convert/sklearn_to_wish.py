@@ -46,20 +46,17 @@ from wish_model_json import dumps, seal  # noqa: E402
 
 FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 1
 
-#: The C++ defaults (core/spherical_map/spherical_map.hpp, core/sh/sh_descriptor.hpp) — what `wish describe`
-#: uses unless told otherwise. Prefer --descriptor-from a model trained by `wish train` to stay in sync.
-DEFAULT_DESCRIPTOR: dict[str, Any] = {
-    "map": {
-        "method": "willmore",
-        "willmore": {"tau": 0.95, "max_steps": 20, "roundness_tolerance": 2e-3, "energy_tolerance": 1e-4,
-                     "min_tau": 0.05, "filtered": False, "filter_strength": 2.0, "max_inverse_iterations": 5},
-        "cmcf": {"delta": 1.0, "max_steps": 30, "roundness_tolerance": 5e-3},
-        "solver": "cholmod",
-        "fallback": True,
-        "verification": {"degenerate_area": 1e-12, "max_conformal_p99": 5.0},
-    },
-    "sh": {"lmax": 15, "regularization": 1e-5, "weighting": "area", "solver": "direct", "band_size": 100},
-}
+#: The descriptor settings come from a model file written by `wish train` (by default the repository's bundled
+#: model), never from a copy of the C++ defaults that could drift: the model file lists every setting.
+BUNDLED_MODEL = Path(__file__).resolve().parents[2] / "data" / "models" / "default.json"
+
+
+def default_descriptor() -> dict[str, Any]:
+    """The descriptor block of the bundled default model (``wish train``'s defaults; Lmax is set from the CSV)."""
+    if not BUNDLED_MODEL.is_file():
+        raise ValueError(f"no bundled model at {BUNDLED_MODEL}: pass --descriptor-from MODEL.json")
+    return copy.deepcopy(read_model(BUNDLED_MODEL)["payload"]["descriptor"])
+
 
 _DBL_MIN = float(np.finfo(float).tiny)  # std::numeric_limits<double>::min(), the log floor in feature_pipeline.cpp
 
@@ -151,7 +148,7 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
     Args:
         pipeline: fitted on the columns of :func:`apply_feature_spec` (``spec``), labels = class-name strings.
         spec: the ``features`` block (:func:`feature_spec`).
-        descriptor: descriptor settings (the model file's ``descriptor`` block); default :data:`DEFAULT_DESCRIPTOR`.
+        descriptor: descriptor settings (the model file's ``descriptor`` block); default :func:`default_descriptor`.
         lmax: overrides ``descriptor.sh.lmax`` (default: the spec's l_max).
         training: fields of the ``training`` block to set (samples, best_c, test_accuracy, notes, ...).
     """
@@ -159,7 +156,7 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
     n_features = len(spec["names"])
     if scaler.mean_.shape[0] != n_features or svc.support_vectors_.shape[1] != n_features:
         raise ValueError(f"the Pipeline has {svc.support_vectors_.shape[1]} features, the spec makes {n_features}")
-    desc = copy.deepcopy(descriptor or DEFAULT_DESCRIPTOR)
+    desc = copy.deepcopy(descriptor or default_descriptor())
     desc["sh"]["lmax"] = int(lmax if lmax is not None else max(spec["l_max"], 0))
     if spec["l_max"] > desc["sh"]["lmax"]:
         raise ValueError(f"features use xi({spec['l_max']}) but the descriptor's lmax is {desc['sh']['lmax']}")

@@ -12,6 +12,7 @@
 
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/classifier_state.hpp"
+#include "core/classify/descriptor_settings_codec.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/common/errors.hpp"
@@ -26,11 +27,6 @@ constexpr const char* kFormatName = "wish-classifier";
   throw InvalidInputError("model_invalid", "invalid model file: " + message);
 }
 
-// ---- enum names (kept local so classify does not depend on the other areas' implementations) ----
-const char* map_method_name(MapMethod m) { return m == MapMethod::Cmcf ? "cmcf" : "willmore"; }
-const char* solver_name(LinearSolverKind s) { return s == LinearSolverKind::EigenSimplicial ? "eigen_simplicial" : "cholmod"; }
-const char* weighting_name(FitWeighting w) { return w == FitWeighting::Uniform ? "uniform" : "area"; }
-const char* fit_solver_name(FitSolver s) { return s == FitSolver::Banded ? "banded" : "direct"; }
 
 // ---- strict readers: every field required, with its path in the message ----
 const json& field(const json& j, const std::string& key, const std::string& where) {
@@ -97,63 +93,57 @@ json rows(const Eigen::MatrixXd& m) {
   return out;
 }
 
+// Writes every field listed by visit_settings().
+struct SettingsWriter {
+  json& out;
+  template <class T> void field(const char* key, const T& value) { out[key] = value; }
+  template <class E> void enumeration(const char* key, const E& value) { out[key] = to_string(value); }
+  template <class F> void group(const char* key, F&& fill) {
+    SettingsWriter sub{out[key]};
+    fill(sub);
+  }
+};
+
+// Reads every field listed by visit_settings(); a missing or mistyped field is refused with its path.
+struct SettingsReader {
+  const json& in;
+  std::string where;
+  void field(const char* key, double& value) { value = num(in, key, where); }
+  void field(const char* key, int& value) { value = static_cast<int>(integer(in, key, where)); }
+  void field(const char* key, bool& value) { value = boolean(in, key, where); }
+  template <class E> void enumeration(const char* key, E& value) {
+    const std::string name = str(in, key, where);
+    try {
+      value = enum_from_name(name, value);
+    } catch (const WishError&) {
+      invalid(where + "." + key + " '" + name + "' is unknown");
+    }
+  }
+  template <class F> void group(const char* key, F&& fill) {
+    SettingsReader sub{field_of(key), where + "." + key};
+    fill(sub);
+  }
+
+ private:
+  const json& field_of(const char* key) { return wish::field(in, key, where); }
+  static MapMethod enum_from_name(const std::string& n, MapMethod) { return map_method_from_name(n); }
+  static LinearSolverKind enum_from_name(const std::string& n, LinearSolverKind) { return linear_solver_from_name(n); }
+  static FitWeighting enum_from_name(const std::string& n, FitWeighting) { return fit_weighting_from_name(n); }
+  static FitSolver enum_from_name(const std::string& n, FitSolver) { return fit_solver_from_name(n); }
+  static GramMethod enum_from_name(const std::string& n, GramMethod) { return gram_method_from_name(n); }
+};
+
 json descriptor_to_json(const DescriptorSettings& d) {
-  const auto& w = d.map.willmore;
-  const auto& c = d.map.cmcf;
-  return {{"map",
-           {{"method", map_method_name(d.map.method)},
-            {"willmore",
-             {{"tau", w.tau}, {"max_steps", w.max_steps}, {"roundness_tolerance", w.roundness_tolerance},
-              {"energy_tolerance", w.energy_tolerance}, {"min_tau", w.min_tau}, {"filtered", w.filtered},
-              {"filter_strength", w.filter_strength}, {"max_inverse_iterations", w.max_inverse_iterations}}},
-            {"cmcf", {{"delta", c.delta}, {"max_steps", c.max_steps}, {"roundness_tolerance", c.roundness_tolerance}}},
-            {"solver", solver_name(d.map.solver)},
-            {"fallback", d.map.fallback},
-            {"verification",
-             {{"degenerate_area", d.map.verification.degenerate_area},
-              {"max_conformal_p99", d.map.verification.max_conformal_p99}}}}},
-          {"sh",
-           {{"lmax", d.sh.lmax}, {"regularization", d.sh.regularization}, {"weighting", weighting_name(d.sh.weighting)},
-            {"solver", fit_solver_name(d.sh.solver)}, {"band_size", d.sh.band_size}}}};
+  json out = json::object();
+  SettingsWriter writer{out};
+  visit_settings(writer, d);
+  return out;
 }
 
 DescriptorSettings descriptor_from_json(const json& j) {
   DescriptorSettings d;
-  const json& m = field(j, "map", "descriptor");
-  const std::string method = str(m, "method", "descriptor.map");
-  if (method != "willmore" && method != "cmcf") invalid("descriptor.map.method '" + method + "' is unknown");
-  d.map.method = method == "cmcf" ? MapMethod::Cmcf : MapMethod::Willmore;
-  const json& w = field(m, "willmore", "descriptor.map");
-  const std::string wp = "descriptor.map.willmore";
-  d.map.willmore.tau = num(w, "tau", wp);
-  d.map.willmore.max_steps = static_cast<int>(integer(w, "max_steps", wp));
-  d.map.willmore.roundness_tolerance = num(w, "roundness_tolerance", wp);
-  d.map.willmore.energy_tolerance = num(w, "energy_tolerance", wp);
-  d.map.willmore.min_tau = num(w, "min_tau", wp);
-  d.map.willmore.filtered = boolean(w, "filtered", wp);
-  d.map.willmore.filter_strength = num(w, "filter_strength", wp);
-  d.map.willmore.max_inverse_iterations = static_cast<int>(integer(w, "max_inverse_iterations", wp));
-  const json& c = field(m, "cmcf", "descriptor.map");
-  d.map.cmcf.delta = num(c, "delta", "descriptor.map.cmcf");
-  d.map.cmcf.max_steps = static_cast<int>(integer(c, "max_steps", "descriptor.map.cmcf"));
-  d.map.cmcf.roundness_tolerance = num(c, "roundness_tolerance", "descriptor.map.cmcf");
-  const std::string solver = str(m, "solver", "descriptor.map");
-  if (solver != "cholmod" && solver != "eigen_simplicial") invalid("descriptor.map.solver '" + solver + "' is unknown");
-  d.map.solver = solver == "cholmod" ? LinearSolverKind::Cholmod : LinearSolverKind::EigenSimplicial;
-  d.map.fallback = boolean(m, "fallback", "descriptor.map");
-  const json& v = field(m, "verification", "descriptor.map");
-  d.map.verification.degenerate_area = num(v, "degenerate_area", "descriptor.map.verification");
-  d.map.verification.max_conformal_p99 = num(v, "max_conformal_p99", "descriptor.map.verification");
-  const json& s = field(j, "sh", "descriptor");
-  d.sh.lmax = static_cast<int>(integer(s, "lmax", "descriptor.sh"));
-  d.sh.regularization = num(s, "regularization", "descriptor.sh");
-  const std::string weighting = str(s, "weighting", "descriptor.sh");
-  if (weighting != "area" && weighting != "uniform") invalid("descriptor.sh.weighting '" + weighting + "' is unknown");
-  d.sh.weighting = weighting == "uniform" ? FitWeighting::Uniform : FitWeighting::Area;
-  const std::string fs = str(s, "solver", "descriptor.sh");
-  if (fs != "direct" && fs != "banded") invalid("descriptor.sh.solver '" + fs + "' is unknown");
-  d.sh.solver = fs == "banded" ? FitSolver::Banded : FitSolver::Direct;
-  d.sh.band_size = static_cast<int>(integer(s, "band_size", "descriptor.sh"));
+  SettingsReader reader{j, "descriptor"};
+  visit_settings(reader, d);
   if (d.sh.lmax < 0 || d.sh.lmax > 100) invalid("descriptor.sh.lmax " + std::to_string(d.sh.lmax) + " is out of range");
   return d;
 }

@@ -38,6 +38,7 @@ struct ShFitOptions {
   FitSolver solver = FitSolver::Direct;
   int band_size = 100;            // max coefficients per band for the banded solver
   GramMethod gram = GramMethod::Quadrature;
+  bool operator==(const ShFitOptions&) const = default;
 };
 
 inline constexpr int kShMaxFitLmax = 64;  // fit_spherical_harmonics refuses larger Lmax (k^2 doubles of memory)

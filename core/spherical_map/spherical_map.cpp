@@ -39,6 +39,18 @@ MapMethod map_method_from_name(const std::string& name) {
                           {{"method", name}});
 }
 
+const char* to_string(LinearSolverKind solver) {
+  return solver == LinearSolverKind::EigenSimplicial ? "eigen_simplicial" : "cholmod";
+}
+
+LinearSolverKind linear_solver_from_name(const std::string& name) {
+  if (name == "cholmod") return LinearSolverKind::Cholmod;
+  if (name == "eigen_simplicial") return LinearSolverKind::EigenSimplicial;
+  throw InvalidInputError("invalid_parameter",
+                          "unknown linear solver '" + name + "' (expected cholmod or eigen_simplicial)",
+                          {{"solver", name}});
+}
+
 const char* to_string(MapStatus status) {
   switch (status) {
     case MapStatus::Ok: return "ok";

@@ -26,6 +26,8 @@ enum class LinearSolverKind { Cholmod, EigenSimplicial };
 
 const char* to_string(MapMethod method);
 MapMethod map_method_from_name(const std::string& name);  // "willmore" | "cmcf" | "linear"; throws InvalidInputError
+const char* to_string(LinearSolverKind solver);
+LinearSolverKind linear_solver_from_name(const std::string& name);  // "cholmod" | "eigen_simplicial"; throws InvalidInputError
 
 struct WillmoreOptions {
   double tau = 0.95;                 // dimensionless step: rho = -tau * P(H) (spherical-map.md §3)
@@ -53,6 +55,7 @@ struct WillmoreOptions {
   // Added: solve the Dirac eigenproblem in its complex Hermitian 2V×2V form (same λ, ~2× fewer Cholesky flops)
   // instead of the real symmetric 4V×4V form (spherical-map.md §4, §9).
   bool complex_dirac = true;
+  bool operator==(const WillmoreOptions&) const = default;
 };
 
 struct CmcfOptions {
@@ -66,6 +69,7 @@ struct CmcfOptions {
   // Added: step cap when cMCF runs as a fallback of the Willmore flow: cheap per step (one V×V factorisation), so
   // it is run (nearly) to convergence as Kazhdan et al. do.
   int fallback_max_steps = 200;
+  bool operator==(const CmcfOptions&) const = default;
 };
 
 // Added: the linear method (spherical-map.md §8.2; linear_map.hpp).
@@ -75,6 +79,7 @@ struct LinearMapOptions {
   // Use the clamped weights even when the plain cot map is a planar embedding (the chain's second linear attempt:
   // a plain map can still fail on the sphere, e.g. near-180° angles whose flat chord triangles face the origin).
   bool always_clamp = false;
+  bool operator==(const LinearMapOptions&) const = default;
 };
 
 struct MapVerificationThresholds {
@@ -91,6 +96,7 @@ struct MapVerificationThresholds {
   // (0 = off; it was 1e-12, which flagged exact, bijective maps of long shapes).
   double degenerate_area = 0;
   double max_conformal_p99 = 5.0;    // quasi-conformal ratio K (p99) above this fails verification
+  bool operator==(const MapVerificationThresholds&) const = default;
 };
 
 struct SphericalMapOptions {
@@ -103,6 +109,7 @@ struct SphericalMapOptions {
   // Added: before verification, relax the few vertices around flipped / numerically degenerate faces (untangle.hpp).
   bool untangle = true;
   MapVerificationThresholds verification;
+  bool operator==(const SphericalMapOptions&) const = default;
 };
 
 // Figures of one sphere map, compared with the input mesh.

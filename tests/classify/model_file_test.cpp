@@ -65,10 +65,20 @@ TEST(ModelFile, DescriptorSettingsSurvive) {
   opts.descriptor.sh.regularization = 3e-4;
   opts.descriptor.sh.weighting = FitWeighting::Uniform;
   opts.descriptor.sh.solver = FitSolver::Banded;
+  // Every other field away from its default too: the file must carry all of them (descriptor_settings_codec.hpp).
+  opts.descriptor.map.method = MapMethod::Linear;
+  opts.descriptor.map.willmore.complex_dirac = false;
+  opts.descriptor.map.cmcf.fallback_max_steps = 77;
+  opts.descriptor.map.linear.always_clamp = true;
+  opts.descriptor.map.untangle = false;
+  opts.descriptor.map.solver = LinearSolverKind::EigenSimplicial;
+  opts.descriptor.map.verification.degenerate_height = 3e-13;
+  opts.descriptor.sh.gram = GramMethod::Product;
   const auto model = train_classifier(testing::synthetic_samples(2, 8, 3), opts).model;
   const auto loaded = ClassifierModel::from_json_text(model.to_json_text());
   const auto& d = loaded.descriptor_settings();
-  EXPECT_EQ(d.map.method, MapMethod::Cmcf);
+  EXPECT_TRUE(d == opts.descriptor);
+  EXPECT_EQ(d.map.method, MapMethod::Linear);
   EXPECT_EQ(d.map.willmore.tau, 0.5);
   EXPECT_EQ(d.sh.regularization, 3e-4);
   EXPECT_EQ(d.sh.weighting, FitWeighting::Uniform);

@@ -1,0 +1,66 @@
+#pragma once
+// Every field of DescriptorSettings (spherical-map options + SH fit options), listed ONCE in visit_settings(), so
+// that the model file writes all of them and reads all of them back: a model must reproduce the descriptor it was
+// trained on exactly (classification.md: never silently mismatched). Adding a field to SphericalMapOptions or
+// ShFitOptions means adding one line here; the round-trip test in tests/classify/model_file_test.cpp compares
+// every field through operator==.
+//
+// A visitor provides: field(key, double&|int&|bool&), enumeration(key, E&), and group(key, lambda) for nesting.
+
+#include "core/classify/classifier_model.hpp"
+
+namespace wish {
+
+template <class Visitor, class Settings>
+void visit_settings(Visitor& v, Settings& d) {
+  v.group("map", [&](Visitor& m) {
+    m.enumeration("method", d.map.method);
+    m.group("willmore", [&](Visitor& w) {
+      auto& o = d.map.willmore;
+      w.field("tau", o.tau);
+      w.field("max_steps", o.max_steps);
+      w.field("roundness_tolerance", o.roundness_tolerance);
+      w.field("energy_tolerance", o.energy_tolerance);
+      w.field("roundness_stall", o.roundness_stall);
+      w.field("roundness_stall_energy", o.roundness_stall_energy);
+      w.field("min_tau", o.min_tau);
+      w.field("filtered", o.filtered);
+      w.field("filter_strength", o.filter_strength);
+      w.field("max_inverse_iterations", o.max_inverse_iterations);
+      w.field("max_eigen_residual", o.max_eigen_residual);
+      w.field("energy_increase_tolerance", o.energy_increase_tolerance);
+      w.field("complex_dirac", o.complex_dirac);
+    });
+    m.group("cmcf", [&](Visitor& c) {
+      auto& o = d.map.cmcf;
+      c.field("delta", o.delta);
+      c.field("max_steps", o.max_steps);
+      c.field("roundness_tolerance", o.roundness_tolerance);
+      c.field("roundness_stall", o.roundness_stall);
+      c.field("min_steps_before_stall", o.min_steps_before_stall);
+      c.field("fallback_max_steps", o.fallback_max_steps);
+    });
+    m.group("linear", [&](Visitor& l) {
+      l.field("min_weight", d.map.linear.min_weight);
+      l.field("always_clamp", d.map.linear.always_clamp);
+    });
+    m.enumeration("solver", d.map.solver);
+    m.field("fallback", d.map.fallback);
+    m.field("untangle", d.map.untangle);
+    m.group("verification", [&](Visitor& q) {
+      q.field("degenerate_height", d.map.verification.degenerate_height);
+      q.field("degenerate_area", d.map.verification.degenerate_area);
+      q.field("max_conformal_p99", d.map.verification.max_conformal_p99);
+    });
+  });
+  v.group("sh", [&](Visitor& s) {
+    s.field("lmax", d.sh.lmax);
+    s.field("regularization", d.sh.regularization);
+    s.enumeration("weighting", d.sh.weighting);
+    s.enumeration("solver", d.sh.solver);
+    s.field("band_size", d.sh.band_size);
+    s.enumeration("gram", d.sh.gram);
+  });
+}
+
+}  // namespace wish
