@@ -22,7 +22,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <omp.h>
+
 #include "cli/command_registry.hpp"
+#include "core/linalg/blas_info.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/grid_search.hpp"
@@ -92,7 +95,11 @@ std::vector<TrainingSample> describe_all(const std::vector<std::pair<std::string
   std::atomic<int> done{0};
   std::mutex io;
   const auto start = std::chrono::steady_clock::now();
+  // Parallelism is over meshes: one BLAS and one OpenMP thread per worker, or the workers oversubscribe the cores
+  // (measured on 2 cores: sys time ~ user time from spinning OpenBLAS threads before this).
+  (void)linalg::set_blas_threads(1);
   parallel_for(static_cast<int>(items.size()), jobs, [&](int i) {
+    omp_set_num_threads(1);
     const auto& [file, label] = items[static_cast<std::size_t>(i)];
     std::string status;
     try {
