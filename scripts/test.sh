@@ -20,13 +20,13 @@ cmake --build build/release -j "$jobs"
 
 step "sanitizer build (ASan + UBSan)"
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DWISH_SANITIZE=ON \
-      -DWISH_BUILD_BENCH=OFF >/dev/null
+      -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
 
 step "libFuzzer targets"
 CC=clang CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
       -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
-      -DWISH_BUILD_BENCH=OFF >/dev/null
+      -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF -DWISH_BUILD_TESTS=ON >/dev/null
 cmake --build build/fuzz -j "$jobs" --target wish_fuzzers
 for fuzzer in build/fuzz/tests/fuzz/fuzz_*; do
   [[ -x "$fuzzer" ]] || continue
