@@ -55,7 +55,7 @@ def default_descriptor() -> dict[str, Any]:
     """The descriptor block of the bundled default model (``wish train``'s defaults; Lmax is set from the CSV)."""
     if not BUNDLED_MODEL.is_file():
         raise ValueError(f"no bundled model at {BUNDLED_MODEL}: pass --descriptor-from MODEL.json")
-    return copy.deepcopy(read_model(BUNDLED_MODEL)["payload"]["descriptor"])
+    return copy.deepcopy(read_model(BUNDLED_MODEL, check_seal=False)["payload"]["descriptor"])
 
 
 _DBL_MIN = float(np.finfo(float).tiny)  # std::numeric_limits<double>::min(), the log floor in feature_pipeline.cpp
@@ -195,12 +195,17 @@ def write_model(doc: dict[str, Any], path: str | Path) -> None:
     Path(path).write_text(dumps(doc, indent=1) + "\n", encoding="utf-8")
 
 
-def read_model(path: str | Path) -> dict[str, Any]:
-    """Reads and checks a model file: format, version, seal."""
+def read_model(path: str | Path, check_seal: bool = True) -> dict[str, Any]:
+    """Reads and checks a model file: format, version, and (``check_seal``) the seal.
+
+    Python reproduces nlohmann's number printing only for the Grisu-safe numbers it writes itself, so the seal of a
+    file written by `wish train` (arbitrary doubles) can only be checked by the C++ loader: pass ``check_seal=False``
+    when merely copying settings out of such a file.
+    """
     doc = json.loads(Path(path).read_text(encoding="utf-8"))
     if doc.get("format") != FORMAT_NAME or doc.get("format_version") != FORMAT_VERSION:
         raise ValueError(f"{path}: not a {FORMAT_NAME} version {FORMAT_VERSION} file")
-    if seal(doc["payload"]) != doc.get("payload_sha256"):
+    if check_seal and seal(doc["payload"]) != doc.get("payload_sha256"):
         raise ValueError(f"{path}: payload_sha256 does not match the content")
     return doc
 
@@ -299,7 +304,7 @@ def _labels_for(files: Sequence[str], own: list[str] | None, args: argparse.Name
 
 def _descriptor(args: argparse.Namespace) -> dict[str, Any] | None:
     if getattr(args, "descriptor_from", None):
-        return copy.deepcopy(read_model(args.descriptor_from)["payload"]["descriptor"])
+        return copy.deepcopy(read_model(args.descriptor_from, check_seal=False)["payload"]["descriptor"])
     return None
 
 
