@@ -204,8 +204,10 @@ SvmEngine SvmEngine::train(const Eigen::MatrixXd& X, const std::vector<int>& y, 
   return SvmEngine(std::move(data));
 }
 
-SvmOutput SvmEngine::predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
-  const auto& d = impl_->data;
+namespace {
+
+// libsvm's input for one feature vector, after checking its length against the model.
+std::vector<svm_node> feature_nodes(const SvmModelData& d, const Eigen::Ref<const Eigen::VectorXd>& x) {
   if (x.size() != d.n_features)
     throw InvalidInputError("feature_mismatch", "the SVM expects " + std::to_string(d.n_features) +
                                                     " features, got " + std::to_string(x.size()));
@@ -213,6 +215,14 @@ SvmOutput SvmEngine::predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   std::vector<svm_node> nodes;
   nodes.reserve(d.n_features + 1);
   append_dense(nodes, copy.data(), d.n_features);
+  return nodes;
+}
+
+}  // namespace
+
+SvmOutput SvmEngine::predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  const auto& d = impl_->data;
+  const std::vector<svm_node> nodes = feature_nodes(d, x);
   const int k = d.n_classes;
   std::vector<double> dec(static_cast<std::size_t>(k) * (k - 1) / 2);
   SvmOutput out;
@@ -239,14 +249,7 @@ SvmOutput SvmEngine::predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
 }
 
 int SvmEngine::predict_label(const Eigen::Ref<const Eigen::VectorXd>& x) const {
-  const auto& d = impl_->data;
-  if (x.size() != d.n_features)
-    throw InvalidInputError("feature_mismatch", "the SVM expects " + std::to_string(d.n_features) +
-                                                    " features, got " + std::to_string(x.size()));
-  const Eigen::VectorXd copy = x;
-  std::vector<svm_node> nodes;
-  nodes.reserve(d.n_features + 1);
-  append_dense(nodes, copy.data(), d.n_features);
+  const std::vector<svm_node> nodes = feature_nodes(impl_->data, x);
   return static_cast<int>(svm_predict(&impl_->view, nodes.data()));  // votes only, no probabilities
 }
 
