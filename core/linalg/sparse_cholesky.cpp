@@ -1,6 +1,7 @@
 #include "core/linalg/sparse_cholesky.hpp"
 
 #include <cholmod.h>
+#include <omp.h>
 
 #include <stdexcept>
 #include <type_traits>
@@ -23,6 +24,32 @@ template <class Scalar>
 constexpr int cholmod_xtype() {
   return std::is_same_v<Scalar, double> ? CHOLMOD_REAL : CHOLMOD_COMPLEX;  // complex: interleaved (re, im)
 }
+
+// CHOLMOD 3 (SuiteSparse 5) runs its supernodal scatter/clear loops as `omp parallel for num_threads(4) if (size >
+// threshold)`: a clause that overrides OMP_NUM_THREADS and omp_set_num_threads(). On a 2-core machine every large
+// supernode then woke 3 helper threads (per worker!) for a memory-bound loop: 40 % of a Willmore map's samples were
+// thread wake-ups, and the nucleus-1 Dirac factorisation took 0.19 s instead of 0.07 s (bench/dirac_factor_bench).
+// With dyn-var on, the runtime may give a region fewer threads than its clause asks for, and libgomp caps it at
+// nthreads-var; both ICVs belong to the calling thread, so this guard makes CHOLMOD's OpenMP serial for this call only
+// and restores the caller's settings. Parallelism inside a factorisation comes from the BLAS (threads set by the
+// caller, see blas_info.hpp), which is where the flops are.
+class SerialCholmodOpenMp {
+ public:
+  SerialCholmodOpenMp() : dynamic_(omp_get_dynamic()), threads_(omp_get_max_threads()) {
+    omp_set_dynamic(1);
+    omp_set_num_threads(1);
+  }
+  ~SerialCholmodOpenMp() {
+    omp_set_num_threads(threads_);
+    omp_set_dynamic(dynamic_);
+  }
+  SerialCholmodOpenMp(const SerialCholmodOpenMp&) = delete;
+  SerialCholmodOpenMp& operator=(const SerialCholmodOpenMp&) = delete;
+
+ private:
+  int dynamic_;
+  int threads_;
+};
 
 // A no-copy CHOLMOD view of an Eigen compressed column-major matrix; stype −1: the lower triangle is used and any
 // upper-triangle entries are ignored.
@@ -47,6 +74,7 @@ cholmod_sparse view_lower(const Eigen::SparseMatrix<Scalar>& a) {
 }  // namespace
 
 std::vector<int> metis_ordering(const Eigen::SparseMatrix<double>& pattern) {
+  const SerialCholmodOpenMp serial;
   cholmod_common c;
   cholmod_start(&c);
   c.print = 0;
@@ -118,6 +146,7 @@ bool SparseCholeskyT<Scalar>::analyze(const Matrix& a) {
   if (options_.backend == CholeskyBackend::EigenSimplicial) {
     impl_->ldlt.analyzePattern(a);
   } else {
+    const SerialCholmodOpenMp serial;
     if (impl_->factor) cholmod_free_factor(&impl_->factor, &impl_->common);
     cholmod_sparse s = view_lower(a);
     if (!options_.permutation.empty() && options_.permutation.size() == static_cast<size_t>(a.rows()))
@@ -155,6 +184,7 @@ bool SparseCholeskyT<Scalar>::factorize(const Matrix& a, double shift) {
       return false;
     }
   } else {
+    const SerialCholmodOpenMp serial;
     cholmod_sparse s = view_lower(a);
     double beta[2] = {shift, 0.0};
     const int ok = cholmod_factorize_p(&s, beta, nullptr, 0, impl_->factor, &impl_->common);
@@ -173,6 +203,7 @@ template <class Scalar>
 typename SparseCholeskyT<Scalar>::Dense SparseCholeskyT<Scalar>::solve(const Dense& b) const {
   if (!factorized_) throw std::logic_error("SparseCholesky::solve without a successful factorisation");
   if (options_.backend == CholeskyBackend::EigenSimplicial) return impl_->ldlt.solve(b);
+  const SerialCholmodOpenMp serial;
   cholmod_dense db{};
   db.nrow = static_cast<size_t>(b.rows());
   db.ncol = static_cast<size_t>(b.cols());
@@ -186,6 +217,18 @@ typename SparseCholeskyT<Scalar>::Dense SparseCholeskyT<Scalar>::solve(const Den
   Dense out = Eigen::Map<const Dense>(static_cast<const Scalar*>(x->x), b.rows(), b.cols());
   cholmod_free_dense(&x, &impl_->common);
   return out;
+}
+
+template <class Scalar>
+void SparseCholeskyT<Scalar>::release_values() {
+  if (!factorized_) return;
+  factorized_ = false;
+  // Eigen's SimplicialLDLT cannot drop its values and keep its analysis: there the factor only becomes unusable.
+  if (options_.backend == CholeskyBackend::EigenSimplicial) return;
+  // Back to a symbolic factor of the same kind (supernodal stays supernodal): values freed, structure kept.
+  const SerialCholmodOpenMp serial;
+  cholmod_change_factor(CHOLMOD_PATTERN, impl_->factor->is_ll, impl_->factor->is_super, 0, 0, impl_->factor,
+                        &impl_->common);
 }
 
 template <class Scalar>

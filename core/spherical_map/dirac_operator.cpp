@@ -35,21 +35,30 @@ DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_
   constexpr int B = DiracPatternT<Scalar>::kBlock;
   const Eigen::SparseMatrix<double>& p = vertex_pattern.pattern;
   const int n = static_cast<int>(p.rows());
-  const long nnz = p.nonZeros();
+  // Vertex column j keeps rows i >= j (row indices are sorted, so they are a tail of the column).
+  std::vector<int> first_lower(static_cast<size_t>(n));
+  long lower_nnz = 0;
+  for (int j = 0; j < n; ++j) {
+    const int* begin = p.innerIndexPtr() + p.outerIndexPtr()[j];
+    const int* end = p.innerIndexPtr() + p.outerIndexPtr()[j + 1];
+    first_lower[static_cast<size_t>(j)] = static_cast<int>(std::lower_bound(begin, end, j) - p.innerIndexPtr());
+    lower_nnz += p.outerIndexPtr()[j + 1] - first_lower[static_cast<size_t>(j)];
+  }
   DiracPatternT<Scalar> out;
   Eigen::SparseMatrix<Scalar>& m = out.matrix;
   m.resize(B * n, B * n);
-  m.reserve(B * B * nnz);
-  m.resizeNonZeros(B * B * nnz);
-  out.block_base.resize(static_cast<size_t>(nnz));
-  out.block_stride.resize(static_cast<size_t>(nnz));
+  m.reserve(B * B * lower_nnz);
+  m.resizeNonZeros(B * B * lower_nnz);
+  out.block_base.assign(static_cast<size_t>(p.nonZeros()), -1);
+  out.block_stride.assign(static_cast<size_t>(p.nonZeros()), 0);
   int* outer = m.outerIndexPtr();
   int* inner = m.innerIndexPtr();
+  long offset = 0;  // value index of the first block of vertex column j
   for (int j = 0; j < n; ++j) {
-    const int begin = p.outerIndexPtr()[j], end = p.outerIndexPtr()[j + 1];
+    const int begin = first_lower[static_cast<size_t>(j)], end = p.outerIndexPtr()[j + 1];
     const int count = end - begin;
     for (int c = 0; c < B; ++c) {
-      const int start = B * B * begin + c * B * count;
+      const int start = static_cast<int>(offset) + c * B * count;
       outer[B * j + c] = start;
       for (int q = begin; q < end; ++q) {
         const int i = p.innerIndexPtr()[q];
@@ -57,11 +66,12 @@ DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_
       }
     }
     for (int q = begin; q < end; ++q) {
-      out.block_base[static_cast<size_t>(q)] = B * B * begin + B * (q - begin);
+      out.block_base[static_cast<size_t>(q)] = static_cast<int>(offset) + B * (q - begin);
       out.block_stride[static_cast<size_t>(q)] = B * count;
     }
+    offset += static_cast<long>(B) * B * count;
   }
-  outer[B * n] = static_cast<int>(B * B * nnz);
+  outer[B * n] = static_cast<int>(offset);
   std::fill(m.valuePtr(), m.valuePtr() + m.nonZeros(), Scalar(0));
   return out;
 }
@@ -83,9 +93,10 @@ double assemble_dirac(const geometry::VertexPattern& vertex_pattern, DiracPatter
     for (int k = 0; k < 3; ++k) {
       for (int l = 0; l < 3; ++l) {
         // 𝔼[i_k, i_l] += −(1/(4A)) e_k e_l + (1/6)(ρ_k e_l − ρ_l e_k) + (A/9) ρ_k ρ_l
+        const size_t s = static_cast<size_t>(slot[static_cast<size_t>(3 * k + l)]);
+        if (pattern.block_base[s] < 0) continue;  // block above the diagonal: not stored (its adjoint is)
         const Quaternion q = (-1.0 / (4.0 * area)) * (e[k] * e[l]) + (1.0 / 6.0) * (r[k] * e[l] - r[l] * e[k]) +
                              Quaternion::real(area / 9.0 * r[k] * r[l]);
-        const size_t s = static_cast<size_t>(slot[static_cast<size_t>(3 * k + l)]);
         add_block(values + pattern.block_base[s], pattern.block_stride[s], q);
       }
     }
@@ -107,20 +118,35 @@ template double assemble_dirac<double>(const geometry::VertexPattern&, DiracPatt
 template double assemble_dirac<Complex>(const geometry::VertexPattern&, DiracPatternT<Complex>&, const Eigen::MatrixX3d&,
                                         const Eigen::MatrixX3i&, const Eigen::VectorXd&, const Eigen::VectorXd&);
 
+namespace {
+
+// Both triangles from the stored lower one (the strictly-upper entries of diagonal blocks are not read).
+template <class Scalar>
+Eigen::SparseMatrix<Scalar> full_hermitian(const Eigen::SparseMatrix<Scalar>& stored) {
+  const Eigen::SparseMatrix<Scalar> lower = stored.template triangularView<Eigen::Lower>();
+  const Eigen::SparseMatrix<Scalar> strictly_lower = stored.template triangularView<Eigen::StrictlyLower>();
+  return lower + Eigen::SparseMatrix<Scalar>(strictly_lower.adjoint());
+}
+
+template <class Scalar>
+Eigen::SparseMatrix<Scalar> assembled_full(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
+                                           const Eigen::VectorXd& rho) {
+  const geometry::VertexPattern vp = geometry::build_vertex_pattern(vertices.rows(), faces);
+  DiracPatternT<Scalar> dp = build_dirac_pattern<Scalar>(vp);
+  assemble_dirac(vp, dp, vertices, faces, geometry::face_areas(vertices, faces), rho);
+  return full_hermitian(dp.matrix);
+}
+
+}  // namespace
+
 Eigen::SparseMatrix<double> dirac_matrix(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                          const Eigen::VectorXd& rho) {
-  const geometry::VertexPattern vp = geometry::build_vertex_pattern(vertices.rows(), faces);
-  DiracPattern dp = build_dirac_pattern<double>(vp);
-  assemble_dirac(vp, dp, vertices, faces, geometry::face_areas(vertices, faces), rho);
-  return dp.matrix;
+  return assembled_full<double>(vertices, faces, rho);
 }
 
 Eigen::SparseMatrix<Complex> dirac_matrix_complex(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                                   const Eigen::VectorXd& rho) {
-  const geometry::VertexPattern vp = geometry::build_vertex_pattern(vertices.rows(), faces);
-  ComplexDiracPattern dp = build_dirac_pattern<Complex>(vp);
-  assemble_dirac(vp, dp, vertices, faces, geometry::face_areas(vertices, faces), rho);
-  return dp.matrix;
+  return assembled_full<Complex>(vertices, faces, rho);
 }
 
 Eigen::VectorXd quaternions_from_complex(const Eigen::VectorXcd& v) {

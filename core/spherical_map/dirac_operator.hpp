@@ -32,8 +32,11 @@ namespace wish::spherical {
 template <class Scalar>
 struct DiracPatternT {
   static constexpr int kBlock = std::is_same_v<Scalar, double> ? 4 : 2;
-  Eigen::SparseMatrix<Scalar> matrix;  // full Hermitian storage (both triangles), values overwritten by assembly
-  std::vector<int> block_base;
+  // Lower storage: only blocks (i, j) with i >= j, diagonal blocks whole (their strictly-upper entries are exact but
+  // never read: CHOLMOD and lower_hermitian_times() read the lower triangle). Half the memory of both triangles,
+  // which matters at 160K vertices (spherical-map issue: < 1 GiB). Values are overwritten by assembly.
+  Eigen::SparseMatrix<Scalar> matrix;
+  std::vector<int> block_base;    // −1 for a vertex-pattern entry above the diagonal (not stored)
   std::vector<int> block_stride;
 };
 using DiracPattern = DiracPatternT<double>;
@@ -48,7 +51,7 @@ double assemble_dirac(const geometry::VertexPattern& vertex_pattern, DiracPatter
                       const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces, const Eigen::VectorXd& areas,
                       const Eigen::VectorXd& rho);
 
-// Convenience for tests: pattern + assembly in one call.
+// Convenience for tests: pattern + assembly in one call; these return both triangles.
 Eigen::SparseMatrix<double> dirac_matrix(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                          const Eigen::VectorXd& rho);
 Eigen::SparseMatrix<std::complex<double>> dirac_matrix_complex(const Eigen::MatrixX3d& vertices,

@@ -5,6 +5,7 @@
 #include <complex>
 #include <type_traits>
 
+#include "core/linalg/lower_hermitian_product.hpp"
 #include "core/spherical_map/quaternion.hpp"
 
 namespace wish::spherical {
@@ -60,7 +61,7 @@ EigenSolveReport smallest_eigenvector(linalg::SparseCholeskyT<Scalar>& solver, c
       return report;
     }
     x /= norm;
-    ex = dirac * x;
+    ex = linalg::lower_hermitian_times(dirac, x);
     const double gamma = std::real(x.dot(ex));  // xᴴ𝔼x, real for Hermitian 𝔼
     report.iterations = it;
     report.rayleigh = gamma / mean_diagonal;

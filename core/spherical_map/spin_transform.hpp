@@ -32,7 +32,8 @@ struct EigenSolveReport {
 };
 
 // x (unit Euclidean norm) ← smallest eigenvector of `dirac` (real 4V×4V or complex Hermitian 2V×2V form, see
-// dirac_operator.hpp). `solver` keeps its symbolic analysis between calls (the pattern of `dirac` must not change).
+// dirac_operator.hpp; only its lower triangle is read). `solver` keeps its symbolic analysis between calls (the
+// pattern of `dirac` must not change).
 // Starts from λ ≡ 1 (real part 1 at every vertex).
 template <class Scalar>
 EigenSolveReport smallest_eigenvector(linalg::SparseCholeskyT<Scalar>& solver, const Eigen::SparseMatrix<Scalar>& dirac,

@@ -63,6 +63,11 @@ class DiracSystem {
     }
     return smallest_eigenvector(*real_solver_, real_.matrix, mean_diag, options, lambda);
   }
+  // Frees the numeric factor once λ is known (the symbolic analysis stays for the next step).
+  void release_factor() {
+    if (complex_) cplx_solver_->release_values();
+    else real_solver_->release_values();
+  }
 
  private:
   const geometry::VertexPattern& vp_;
@@ -155,7 +160,7 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
     return result;
   }
 
-  Eigen::SparseMatrix<double> pinned, filter_matrix;
+  Eigen::SparseMatrix<double> filter_matrix;
   Eigen::VectorXd lambda;
   double tau = options.tau;
   bool stopped = false;
@@ -200,6 +205,7 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
       rec.geometry_seconds = seconds_since(t0);
       // λ: smallest eigenvector of 𝔼(ρ).
       const EigenSolveReport eig = dirac.solve(mean_diag, eigen_options, lambda);
+      dirac.release_factor();  // one numeric factor alive at a time: the Poisson one is next
       rec.factor_seconds = eig.factor_seconds;
       rec.eigen_seconds = eig.solve_seconds;
       rec.eigen_residual = eig.residual;
@@ -221,11 +227,13 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
       t0 = Clock::now();
       Eigen::MatrixX3d omega = spin_divergence(state.x, faces, state.cot, lambda);
       omega.row(0).setZero();
+      Eigen::SparseMatrix<double> pinned;  // scoped to the step: not alive during the next Dirac factorisation
       pin_vertex(state.laplacian, 0, pinned);
       SurfaceState next;
       bool poisson_ok = poisson_solver.factorize(pinned);
       if (poisson_ok) {
         next.x = poisson_solver.solve(omega);
+        poisson_solver.release_values();
         normalise_area_and_centre(next.x, faces);
         next.laplacian = state.laplacian;
         update_state(pattern, faces, next);

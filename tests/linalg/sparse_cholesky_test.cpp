@@ -45,6 +45,29 @@ TEST_P(SparseCholeskyBackends, SolvesSpdSystemRepeatedlyWithOneAnalysis) {
   EXPECT_GT(solver.factor_nonzeros(), 0);
 }
 
+TEST_P(SparseCholeskyBackends, ReleasedValuesAreRefactoredFromTheKeptAnalysis) {
+  const Eigen::SparseMatrix<double> l = grid_laplacian(30);
+  for (CholmodMode mode : {CholmodMode::Supernodal, CholmodMode::Simplicial}) {
+    CholeskyOptions o;
+    o.backend = GetParam();
+    o.cholmod_mode = mode;
+    SparseCholesky solver(o);
+    ASSERT_TRUE(solver.factorize(l, 0.5)) << solver.message();
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(l.rows(), 2);
+    const Eigen::MatrixXd x1 = solver.solve(b);
+    solver.release_values();
+    EXPECT_FALSE(solver.factorized());
+    EXPECT_THROW(solver.solve(b), std::logic_error);
+    EXPECT_TRUE(solver.analyzed());  // the next factorisation of the same pattern needs no new analysis
+    ASSERT_TRUE(solver.factorize(l, 2.0)) << solver.message();
+    const Eigen::MatrixXd x2 = solver.solve(b);
+    Eigen::SparseMatrix<double> shifted = l;
+    for (Eigen::Index i = 0; i < l.rows(); ++i) shifted.coeffRef(i, i) += 2.0;
+    EXPECT_LT((shifted * x2 - b).norm() / b.norm(), 1e-10);
+    EXPECT_GT((x2 - x1).norm(), 1e-3 * x1.norm());  // really the new matrix, not the released values
+  }
+}
+
 TEST_P(SparseCholeskyBackends, RefusesSingularAndIndefiniteButAcceptsShift) {
   const Eigen::SparseMatrix<double> l = grid_laplacian(12);  // PSD, kernel = constants
   CholeskyOptions o;
