@@ -1,6 +1,9 @@
 // `wish predict --model M FILE... [--json|--csv]`: label, class probabilities (Platt) and decision margin per
 // mesh, computed with the model's own descriptor settings (core/pipeline classify_mesh_bytes). A file that fails
 // is reported and the others still run; exit status 1 then.
+// `wish predict --model M --descriptors D.csv`: the same from descriptors already computed (`wish describe --csv`,
+// `wish train --save-descriptors`), one result per row. The table's Lmax must be the model's: ξ(l) of a fit at
+// another Lmax are not the model's features, so a mismatch is refused, never predicted from.
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -12,6 +15,7 @@
 
 #include "cli/command_registry.hpp"
 #include "core/classify/classifier_model.hpp"
+#include "core/classify/descriptor_table.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 
@@ -21,6 +25,7 @@ namespace {
 struct PredictOptions {
   std::string model;
   std::vector<std::string> files;
+  std::string descriptors;
   bool json = false, csv = false;
 };
 
@@ -34,13 +39,56 @@ std::string csv_quote(const std::string& s) {
 CommandRunner setup_predict(CLI::App& sub) {
   auto o = std::make_shared<PredictOptions>();
   sub.add_option("--model", o->model, "Model file written by `wish train` (e.g. data/models/default.json)")->required();
-  sub.add_option("files", o->files, "Mesh files (OBJ, PLY, OFF, STL)")->required();
+  auto* files = sub.add_option("files", o->files, "Mesh files (OBJ, PLY, OFF, STL)");
+  sub.add_option("--descriptors", o->descriptors,
+                 "Descriptor CSV (xi_0..xi_L columns, as `wish describe --csv` writes) instead of mesh files")
+      ->excludes(files);
   auto* json = sub.add_flag("--json", o->json, "JSON array, one object per file");
   sub.add_flag("--csv", o->csv, "CSV: file, label, margin, p_<class>...")->excludes(json);
   return [o]() {
     const ClassifierModel model = ClassifierModel::load(o->model);
+    if (o->files.empty() && o->descriptors.empty())
+      throw InvalidInputError("invalid_parameter", "give mesh files or --descriptors CSV");
     bool ok = true;
     nlohmann::json results = nlohmann::json::array();
+    auto record = [](nlohmann::json& r, const Prediction& p) {
+      r["label"] = p.label;
+      r["margin"] = p.margin;
+      nlohmann::json probs = nlohmann::json::object();
+      for (const auto& [label, prob] : p.probabilities) probs[label] = prob;
+      r["probabilities"] = probs;
+    };
+    auto fail = [&](nlohmann::json& r, const std::string& what, const WishError& e) {
+      ok = false;
+      r["error"] = {{"code", e.code()}, {"message", e.what()}};
+      if (!o->json) std::cerr << "wish predict: " << what << ": error [" << e.code() << "] " << e.what() << "\n";
+    };
+    if (!o->descriptors.empty()) {
+      std::ifstream in(o->descriptors, std::ios::binary);
+      if (!in) throw InvalidInputError("file_not_found", "cannot open '" + o->descriptors + "'");
+      std::ostringstream ss;
+      ss << in.rdbuf();
+      const DescriptorTable table = read_unlabelled_descriptor_table(ss.str());
+      const int model_lmax = model.descriptor_settings().sh.lmax;
+      if (table.lmax != model_lmax)
+        throw InvalidInputError("descriptor_mismatch",
+                                "the descriptor CSV has xi_0..xi_" + std::to_string(table.lmax) + " but model '" +
+                                    model.name() + "' was trained on fits with Lmax " + std::to_string(model_lmax) +
+                                    "; describe the meshes with --lmax " + std::to_string(model_lmax));
+      if (model.needs_global_features() && !table.has_global)
+        throw InvalidInputError("descriptor_mismatch", "model '" + model.name() +
+                                                           "' needs the global shape descriptors (g_* columns), which "
+                                                           "the CSV lacks; write it with `wish train --save-descriptors`");
+      for (const TrainingSample& sample : table.samples) {
+        nlohmann::json r = {{"file", sample.id}};
+        try {
+          record(r, model.predict(sample.features));
+        } catch (const WishError& e) {
+          fail(r, sample.id, e);
+        }
+        results.push_back(r);
+      }
+    }
     for (const auto& file : o->files) {
       nlohmann::json r = {{"file", file}};
       try {
@@ -52,17 +100,10 @@ CommandRunner setup_predict(CLI::App& sub) {
         const auto dot = file.find_last_of('.');
         if (dot != std::string::npos) po.read.hint = format_from_name(file.substr(dot));
         const PipelineResult res = classify_mesh_bytes(ss.str(), model, po);
-        const Prediction& p = res.prediction.value();
-        r["label"] = p.label;
-        r["margin"] = p.margin;
-        nlohmann::json probs = nlohmann::json::object();
-        for (const auto& [label, prob] : p.probabilities) probs[label] = prob;
-        r["probabilities"] = probs;
+        record(r, res.prediction.value());
         r["seconds"] = res.timings.total;
       } catch (const WishError& e) {
-        ok = false;
-        r["error"] = {{"code", e.code()}, {"message", e.what()}};
-        if (!o->json) std::cerr << "wish predict: " << file << ": error [" << e.code() << "] " << e.what() << "\n";
+        fail(r, file, e);
       }
       results.push_back(r);
     }

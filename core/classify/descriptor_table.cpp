@@ -64,7 +64,10 @@ std::vector<std::pair<std::string, std::string>> read_manifest(const std::string
   return out;
 }
 
-DescriptorTable read_descriptor_table(const std::string& csv_text, const std::map<std::string, std::string>& labels) {
+namespace {
+
+DescriptorTable read_table(const std::string& csv_text, const std::map<std::string, std::string>& labels,
+                           bool keep_unlabelled) {
   const auto rows = parse_csv(csv_text);
   if (rows.empty()) bad("the descriptor CSV is empty");
   const auto& header = rows[0];
@@ -86,7 +89,7 @@ DescriptorTable read_descriptor_table(const std::string& csv_text, const std::ma
     if (!xi_col.count(l)) bad("the descriptor CSV lacks column xi_" + std::to_string(l));
   t.has_global = true;
   for (const auto& name : global_descriptor_names()) t.has_global = t.has_global && g_col.count(name);
-  if (label_col < 0 && labels.empty()) bad("the descriptor CSV has no 'label' column; pass a labels manifest (path,label)");
+  if (label_col < 0 && labels.empty() && !keep_unlabelled) bad("the descriptor CSV has no 'label' column; pass a labels manifest (path,label)");
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const auto& r = rows[i];
     if (r.size() != header.size())
@@ -103,7 +106,7 @@ DescriptorTable read_descriptor_table(const std::string& csv_text, const std::ma
       }
       if (it != labels.end()) s.label = it->second;
     }
-    if (s.label.empty()) {
+    if (s.label.empty() && !keep_unlabelled) {
       t.unlabelled.push_back(s.id);
       continue;
     }
@@ -118,6 +121,14 @@ DescriptorTable read_descriptor_table(const std::string& csv_text, const std::ma
   }
   return t;
 }
+
+}  // namespace
+
+DescriptorTable read_descriptor_table(const std::string& csv_text, const std::map<std::string, std::string>& labels) {
+  return read_table(csv_text, labels, false);
+}
+
+DescriptorTable read_unlabelled_descriptor_table(const std::string& csv_text) { return read_table(csv_text, {}, true); }
 
 std::string write_descriptor_table(const std::vector<TrainingSample>& samples) {
   std::ostringstream o;

@@ -26,6 +26,8 @@ struct DescriptorTable {
 // `labels`: file -> label from a manifest; may be empty when the CSV has a label column.
 // Throws InvalidInputError("invalid_descriptor_csv") with the line number on malformed content.
 DescriptorTable read_descriptor_table(const std::string& csv_text, const std::map<std::string, std::string>& labels = {});
+// Every row, labelled or not (label empty when there is none): the input of `wish predict --descriptors`.
+DescriptorTable read_unlabelled_descriptor_table(const std::string& csv_text);
 // Reads a manifest CSV "path,label" (header optional); relative paths are resolved against `base`.
 std::vector<std::pair<std::string, std::string>> read_manifest(const std::string& csv_text, const std::filesystem::path& base);
 std::string write_descriptor_table(const std::vector<TrainingSample>& samples);

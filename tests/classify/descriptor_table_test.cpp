@@ -40,6 +40,22 @@ TEST(DescriptorTable, DescribeCsvJoinedWithAManifest) {
   EXPECT_EQ(t.unlabelled, std::vector<std::string>{"/data/three.ply"});  // reported, not silently dropped
 }
 
+TEST(DescriptorTable, UnlabelledTableKeepsEveryRowForPrediction) {
+  const std::string csv =
+      "file,n_vertices,xi_0,xi_1,xi_2\n"
+      "one.ply,10,1,0.5,0.25\n"
+      "two.ply,10,2,0.4,0.2\n";
+  EXPECT_THROW(read_descriptor_table(csv), InvalidInputError);  // training needs labels
+  const DescriptorTable t = read_unlabelled_descriptor_table(csv);
+  ASSERT_EQ(t.samples.size(), 2u);
+  EXPECT_TRUE(t.unlabelled.empty());
+  EXPECT_EQ(t.lmax, 2);
+  EXPECT_EQ(t.samples[1].id, "two.ply");
+  EXPECT_TRUE(t.samples[1].label.empty());
+  EXPECT_DOUBLE_EQ(t.samples[1].features.invariants(2), 0.2);
+  EXPECT_THROW(read_unlabelled_descriptor_table("file,xi_0\na,x\n"), InvalidInputError);  // still checked
+}
+
 TEST(DescriptorTable, ClearErrors) {
   EXPECT_THROW(read_descriptor_table("file,xi_0\na,1\n"), InvalidInputError);           // no labels at all
   EXPECT_THROW(read_descriptor_table("file,label,xi_0,xi_2\na,b,1,2\n"), InvalidInputError);  // xi_1 missing

@@ -202,13 +202,6 @@ class CppComparisonTest(unittest.TestCase):
 
     def test_wish_predict_agrees(self) -> None:
         wish = os.environ["WISH_BIN"]
-        probe = subprocess.run([wish, "predict", "--help"], capture_output=True, text=True, timeout=30)
-        if probe.returncode != 0:
-            self.skipTest("this `wish` has no `predict` subcommand yet")
-        help_text = probe.stdout + probe.stderr
-        if "--descriptors" not in help_text:
-            self.skipTest("`wish predict` does not read descriptor CSVs yet (no --descriptors option); the "
-                          "converted model is compared with scikit-learn in ConvertTest instead")
         tmp = Path(tempfile.mkdtemp(prefix="wish-cpp-"))
         xi, y = synthetic_spectra(lmax=6)
         spec = conv.feature_spec(l_max=5, log=True)
@@ -221,10 +214,31 @@ class CppComparisonTest(unittest.TestCase):
         r = subprocess.run([wish, "predict", "--model", str(model), "--descriptors", str(csv_path), "--json"],
                            capture_output=True, text=True, timeout=120)
         self.assertEqual(r.returncode, 0, r.stderr)
-        doc = json.loads(r.stdout)
-        rows = doc.get("results", doc) if isinstance(doc, dict) else doc
-        labels = [row.get("label") or row.get("prediction", {}).get("label") for row in rows]
-        self.assertEqual(labels, list(pipe.predict(conv.apply_feature_spec(xi, spec))))
+        rows = json.loads(r.stdout)["predictions"]
+        self.assertEqual([row["file"] for row in rows], [f"meshes/m{i:03d}.obj" for i in range(len(xi))])
+        self.assertEqual([row["label"] for row in rows], list(pipe.predict(conv.apply_feature_spec(xi, spec))))
+        # Probabilities too: libsvm's Platt scaling, replayed by the C++ engine, against scikit-learn's.
+        probs = pipe.predict_proba(conv.apply_feature_spec(xi, spec))
+        for row, expected in zip(rows, probs):
+            got = [row["probabilities"][c] for c in pipe.classes_]
+            self.assertLess(max(abs(a - b) for a, b in zip(got, expected)), 1e-5)
+
+    def test_wish_predict_refuses_a_table_of_another_lmax(self) -> None:
+        wish = os.environ["WISH_BIN"]
+        tmp = Path(tempfile.mkdtemp(prefix="wish-cpp-"))
+        xi, y = synthetic_spectra(lmax=6)
+        spec = conv.feature_spec(l_max=5, log=True)
+        pipe = Pipeline([("s", StandardScaler()), ("v", SVC(C=10, gamma=0.1, probability=True, random_state=0))])
+        pipe.fit(conv.apply_feature_spec(xi, spec), y)
+        model = tmp / "model.json"
+        conv.write_model(conv.pipeline_to_model(pipe, spec, lmax=6), model)
+        csv_path = tmp / "describe.csv"
+        write_describe_csv(csv_path, xi[:, :6])  # xi_0..xi_5: a fit at Lmax 5, not the model's 6
+        r = subprocess.run([wish, "predict", "--model", str(model), "--descriptors", str(csv_path)],
+                           capture_output=True, text=True, timeout=120)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("descriptor_mismatch", r.stderr)
+        self.assertIn("Lmax 6", r.stderr)
 
 
 if __name__ == "__main__":
