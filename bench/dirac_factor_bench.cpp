@@ -23,28 +23,17 @@
 #include "core/geometry/mean_curvature.hpp"
 #include "core/geometry/vertex_normals.hpp"
 #include "core/geometry/vertex_pattern.hpp"
-#include "core/io/mesh_io.hpp"
+#include "bench/map_bench_meshes.hpp"
 #include "core/linalg/blas_info.hpp"
-#include "core/mesh/icosphere.hpp"
+#include "core/linalg/sparse_cholesky.hpp"
 #include "core/spherical_map/dirac_operator.hpp"
 #include "core/spherical_map/willmore_flow.hpp"
-#include "core/validation/mesh_report.hpp"
 
 namespace {
 
 using namespace wish;
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-Mesh bumpy_ellipsoid(int level) {
-  Mesh m = make_icosphere(level);
-  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {
-    const Eigen::Vector3d p = m.vertices.row(i);
-    const double r = 1.0 + 0.06 * std::sin(5 * p.x() + 0.3) * std::sin(4 * p.y()) * std::cos(3 * p.z());
-    m.vertices.row(i) = (r * p).cwiseProduct(Eigen::Vector3d(1.0, 0.75, 0.6)).transpose();
-  }
-  return m;
-}
 
 enum class Ordering { MetisVertexExpanded, AmdVertexExpanded, CholmodDefault, MetisFull, NesdisVertexExpanded };
 const char* name(Ordering o) {
@@ -75,7 +64,10 @@ cholmod_sparse lower_view(const Eigen::SparseMatrix<std::complex<double>>& a, in
   return s;
 }
 
+// An ordering of the vertex graph expanded to the 2×2 blocks. METIS is the flow's own (linalg::metis_ordering); AMD
+// and CHOLMOD's nested dissection are called here directly, being only candidates.
 std::vector<int> vertex_ordering(const Eigen::SparseMatrix<double>& pattern, Ordering o) {
+  if (o == Ordering::MetisVertexExpanded) return linalg::expand_ordering(linalg::metis_ordering(pattern), 2);
   cholmod_common c;
   cholmod_start(&c);
   c.print = 0;
@@ -92,19 +84,12 @@ std::vector<int> vertex_ordering(const Eigen::SparseMatrix<double>& pattern, Ord
   std::vector<int> perm(static_cast<size_t>(pattern.rows()));
   if (o == Ordering::AmdVertexExpanded) {
     cholmod_amd(&s, nullptr, 0, perm.data(), &c);
-  } else if (o == Ordering::NesdisVertexExpanded) {
+  } else {
     std::vector<int> cparent(perm.size()), cmember(perm.size());
     cholmod_nested_dissection(&s, nullptr, 0, perm.data(), cparent.data(), cmember.data(), &c);
-  } else {
-    cholmod_metis(&s, nullptr, 0, 1, perm.data(), &c);
   }
   cholmod_finish(&c);
-  std::vector<int> out(perm.size() * 2);
-  for (size_t k = 0; k < perm.size(); ++k) {
-    out[2 * k] = 2 * perm[k];
-    out[2 * k + 1] = 2 * perm[k] + 1;
-  }
-  return out;
+  return linalg::expand_ordering(perm, 2);
 }
 
 // relax: CHOLMOD's supernode amalgamation (nrelax[0..2], zrelax[0..2]); 0 keeps CHOLMOD's defaults (4/16/48,
@@ -199,13 +184,7 @@ int main(int argc, char** argv) {
   }
   std::printf("BLAS: %s; CHOLMOD's OpenMP regions: %s\n", linalg::describe_blas().c_str(),
               cholmod_openmp ? "as compiled (4 threads on large supernodes)" : "serial");
-  std::filesystem::path shared = WISH_SHARED_DATA_DEFAULT;
-  if (const char* env = std::getenv("WISH_SHARED_DATA")) shared = env;
-  std::vector<std::pair<std::string, Mesh>> cases;
-  const auto nucleus = shared / "nmv_nuclei" / "nuclei-meshes" / "hq" / "nucleus-1.obj";
-  if (std::filesystem::exists(nucleus))
-    cases.emplace_back("nucleus-1 (hq)", prepare_for_mapping(read_mesh_file(nucleus).mesh).mesh);
-  for (int level = 5; level <= 7; ++level) cases.emplace_back("bumpy-ico" + std::to_string(level), bumpy_ellipsoid(level));
+  const std::vector<bench::BenchMesh> cases = bench::map_bench_meshes(5);
   std::printf("complex 2V x 2V Hermitian Dirac matrix; lnz = factor entries (millions), flops = CHOLMOD's count "
               "(millions); factorise = median of 3; peak = CHOLMOD's own peak allocation\n");
   std::printf("%-16s %7s %-26s %-10s %9s %9s %8s %8s %8s %6s %8s\n", "mesh", "V", "ordering", "mode", "lnz M", "Mflop",

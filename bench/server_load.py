@@ -37,12 +37,21 @@ def percentile(values, q):
     return s[k]
 
 
+def sample_rss(pid, running):
+    """Server RSS every 0.5 s while running() holds: min/max MiB and the (seconds, KiB) trace for the soak's drift."""
+    t0 = time.time()
+    trace = [(0.0, rss_kib(pid))]
+    while running():
+        trace.append((time.time() - t0, rss_kib(pid)))
+        time.sleep(0.5)
+    kib = [k for _, k in trace]
+    return {"rss_min_mib": min(kib) / 1024, "rss_max_mib": max(kib) / 1024, "rss_trace": trace}
+
+
 def run_level(port, route, mesh, concurrency, duration, pid):
     latencies, totals, errors = [], [], []
     lock = threading.Lock()
     stop_at = time.time() + duration
-    rss = [rss_kib(pid)]
-    rss_trace = [(0.0, rss[0])]  # (seconds since start, KiB), for the soak's drift check
 
     def client():
         conn = http.client.HTTPConnection("127.0.0.1", port, timeout=300)
@@ -64,18 +73,14 @@ def run_level(port, route, mesh, concurrency, duration, pid):
     t0 = time.time()
     for t in threads:
         t.start()
-    while any(t.is_alive() for t in threads):
-        rss.append(rss_kib(pid))
-        rss_trace.append((time.time() - t0, rss[-1]))
-        time.sleep(0.5)
+    rss = sample_rss(pid, lambda: any(t.is_alive() for t in threads))
     for t in threads:
         t.join()
     elapsed = time.time() - t0
     return {"concurrency": concurrency, "requests": len(latencies), "errors": len(errors),
             "throughput": len(latencies) / elapsed, "p50": percentile(latencies, 0.5),
             "p95": percentile(latencies, 0.95), "p99": percentile(latencies, 0.99),
-            "pipeline_median": statistics.median(totals) if totals else float("nan"),
-            "rss_min_mib": min(rss) / 1024, "rss_max_mib": max(rss) / 1024, "rss_trace": rss_trace}
+            "pipeline_median": statistics.median(totals) if totals else float("nan"), **rss}
 
 
 def run_level_wrk(port, route, mesh_path, concurrency, duration, pid):
@@ -85,13 +90,7 @@ def run_level_wrk(port, route, mesh_path, concurrency, duration, pid):
     cmd = ["wrk", "-t1", "-c%d" % concurrency, "-d%ds" % max(1, int(duration)), "--timeout", "300s", "-s", script,
            "http://127.0.0.1:%d%s" % (port, route)]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, text=True)
-    t0 = time.time()
-    rss = [rss_kib(pid)]
-    rss_trace = [(0.0, rss[0])]
-    while proc.poll() is None:
-        rss.append(rss_kib(pid))
-        rss_trace.append((time.time() - t0, rss[-1]))
-        time.sleep(0.5)
+    rss = sample_rss(pid, lambda: proc.poll() is None)
     out = proc.stdout.read()
     m = re.search(r"WRK requests=(\d+) errors=(\d+) duration_us=(\d+) p50=(\d+) p95=(\d+) p99=(\d+)", out)
     if not m:
@@ -99,8 +98,7 @@ def run_level_wrk(port, route, mesh_path, concurrency, duration, pid):
     requests, errors, dur_us, p50, p95, p99 = (int(x) for x in m.groups())
     ok = requests - errors
     return {"concurrency": concurrency, "requests": ok, "errors": errors, "throughput": ok / (dur_us / 1e6),
-            "p50": p50 / 1e6, "p95": p95 / 1e6, "p99": p99 / 1e6, "pipeline_median": float("nan"),
-            "rss_min_mib": min(rss) / 1024, "rss_max_mib": max(rss) / 1024, "rss_trace": rss_trace}
+            "p50": p50 / 1e6, "p95": p95 / 1e6, "p99": p99 / 1e6, "pipeline_median": float("nan"), **rss}
 
 
 def single_requests(port, route, mesh, count):

@@ -14,25 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "core/io/mesh_io.hpp"
+#include "bench/map_bench_meshes.hpp"
 #include "core/linalg/blas_info.hpp"
-#include "core/mesh/icosphere.hpp"
 #include "core/spherical_map/spherical_map.hpp"
-#include "core/validation/mesh_report.hpp"
 
 namespace {
 
 using namespace wish;
-
-Mesh bumpy_ellipsoid(int level) {
-  Mesh m = make_icosphere(level);
-  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {
-    const Eigen::Vector3d p = m.vertices.row(i);
-    const double r = 1.0 + 0.06 * std::sin(5 * p.x() + 0.3) * std::sin(4 * p.y()) * std::cos(3 * p.z());
-    m.vertices.row(i) = (r * p).cwiseProduct(Eigen::Vector3d(1.0, 0.75, 0.6)).transpose();
-  }
-  return m;
-}
 
 double peak_rss_mib() {
   rusage u{};
@@ -40,12 +28,7 @@ double peak_rss_mib() {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-struct Case {
-  std::string name;
-  Mesh mesh;
-};
-
-void run(const Case& c, MapMethod method, LinearSolverKind solver) {
+void run(const bench::BenchMesh& c, MapMethod method, LinearSolverKind solver) {
   SphericalMapOptions o;
   o.method = method;
   o.solver = solver;
@@ -87,21 +70,13 @@ int main(int argc, char** argv) {
   std::printf("BLAS: %s\n", linalg::describe_blas().c_str());
   std::printf("OPENBLAS_NUM_THREADS=%s OMP_NUM_THREADS=%s\n", std::getenv("OPENBLAS_NUM_THREADS") ? std::getenv("OPENBLAS_NUM_THREADS") : "(unset)",
               std::getenv("OMP_NUM_THREADS") ? std::getenv("OMP_NUM_THREADS") : "(unset)");
-  std::vector<Case> cases;
-  std::filesystem::path shared = WISH_SHARED_DATA_DEFAULT;
-  if (const char* env = std::getenv("WISH_SHARED_DATA")) shared = env;
-  const auto nucleus = shared / "nmv_nuclei" / "nuclei-meshes" / "hq" / "nucleus-1.obj";
-  cases.push_back({"bumpy-ico4", bumpy_ellipsoid(4)});
-  if (std::filesystem::exists(nucleus)) cases.push_back({"nucleus-1 (hq)", prepare_for_mapping(read_mesh_file(nucleus).mesh).mesh});
-  cases.push_back({"bumpy-ico5", bumpy_ellipsoid(5)});
-  cases.push_back({"bumpy-ico6", bumpy_ellipsoid(6)});
-  cases.push_back({"bumpy-ico7", bumpy_ellipsoid(7)});
+  const std::vector<bench::BenchMesh> cases = bench::map_bench_meshes(4);
   std::printf("\ntimes in seconds; step = mean per flow step; setup = everything outside the steps; stage columns are sums "
               "over the steps\n");
   std::printf("%-22s %8s %-8s %-8s %7s %8s %8s | %7s %7s %7s %7s %7s | %5s %6s %6s %8s %-13s %7s\n", "mesh", "V", "method",
               "solver", "acc/st", "total", "step", "setup", "geom", "factor", "eigen", "poisson", "flips", "Kmean", "Kp99",
               "R", "status", "RSS MiB");
-  for (const Case& c : cases) {
+  for (const bench::BenchMesh& c : cases) {
     if (c.mesh.vertex_count() > max_vertices) continue;
     run(c, MapMethod::Willmore, LinearSolverKind::Cholmod);
     run(c, MapMethod::Cmcf, LinearSolverKind::Cholmod);

@@ -4,11 +4,9 @@
 //   blocks in the service's layout (server/wire_json.hpp: the same encoders as /v1/describe);  --csv: one row per mesh: file, n_vertices, n_faces, map method/status, fit errors,
 //   timings, xi_0..xi_L (what a notebook wants).
 // A file that fails is reported (JSON: "error"; CSV/table: on stderr) and the others still run; exit status 1 then.
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
+#include "cli/file_bytes.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "server/error_mapping.hpp"
@@ -33,14 +32,6 @@ struct DescribeOptions {
   std::string method = "willmore", weights = "area", solver = "direct";
   double regularization = 1e-5;
 };
-
-std::string read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidInputError("file_not_found", "cannot open '" + path + "'", {{"file", path}});
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 nlohmann::json describe_file(const std::string& file, const PipelineOptions& options, bool& ok) {
   nlohmann::json out = {{"file", file}};

@@ -4,16 +4,15 @@
 // `wish predict --model M --descriptors D.csv`: the same from descriptors already computed (`wish describe --csv`,
 // `wish train --save-descriptors`), one result per row. The table's Lmax must be the model's: ξ(l) of a fit at
 // another Lmax are not the model's features, so a mismatch is refused, never predicted from.
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
+#include "cli/file_bytes.hpp"
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/common/errors.hpp"
@@ -64,11 +63,7 @@ CommandRunner setup_predict(CLI::App& sub) {
       if (!o->json) std::cerr << "wish predict: " << what << ": error [" << e.code() << "] " << e.what() << "\n";
     };
     if (!o->descriptors.empty()) {
-      std::ifstream in(o->descriptors, std::ios::binary);
-      if (!in) throw InvalidInputError("file_not_found", "cannot open '" + o->descriptors + "'");
-      std::ostringstream ss;
-      ss << in.rdbuf();
-      const DescriptorTable table = read_unlabelled_descriptor_table(ss.str());
+      const DescriptorTable table = read_unlabelled_descriptor_table(read_file_bytes(o->descriptors));
       const int model_lmax = model.descriptor_settings().sh.lmax;
       if (table.lmax != model_lmax)
         throw InvalidInputError("descriptor_mismatch",
@@ -92,14 +87,10 @@ CommandRunner setup_predict(CLI::App& sub) {
     for (const auto& file : o->files) {
       nlohmann::json r = {{"file", file}};
       try {
-        std::ifstream in(file, std::ios::binary);
-        if (!in) throw InvalidInputError("file_not_found", "cannot open '" + file + "'");
-        std::ostringstream ss;
-        ss << in.rdbuf();
         PipelineOptions po;
         const auto dot = file.find_last_of('.');
         if (dot != std::string::npos) po.read.hint = format_from_name(file.substr(dot));
-        const PipelineResult res = classify_mesh_bytes(ss.str(), model, po);
+        const PipelineResult res = classify_mesh_bytes(read_file_bytes(file), model, po);
         record(r, res.prediction.value());
         r["seconds"] = res.timings.total;
       } catch (const WishError& e) {

@@ -25,6 +25,7 @@
 #include <omp.h>
 
 #include "cli/command_registry.hpp"
+#include "cli/file_bytes.hpp"
 #include "core/linalg/blas_info.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
@@ -56,14 +57,6 @@ struct TrainCliOptions {
 struct Failure {
   std::string file, code, message;
 };
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidInputError("file_not_found", "cannot open '" + path + "'");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 bool is_mesh_file(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -106,7 +99,7 @@ std::vector<TrainingSample> describe_all(const std::vector<std::pair<std::string
       PipelineOptions o = po;
       const auto dot = file.find_last_of('.');
       if (dot != std::string::npos) o.read.hint = format_from_name(file.substr(dot));
-      const PipelineResult r = describe_mesh_bytes(read_text(file), o);
+      const PipelineResult r = describe_mesh_bytes(read_file_bytes(file), o);
       TrainingSample s;
       s.id = file;
       s.label = label;
@@ -195,7 +188,7 @@ CommandRunner setup_train(CLI::App& sub) {
       std::cerr << "describing " << items.size() << " meshes (Lmax " << o->lmax << ", " << o->method << ")\n";
       samples = describe_all(items, po, o->jobs, o->quiet, failures);
     } else {
-      const std::string text = read_text(o->input);
+      const std::string text = read_file_bytes(o->input);
       const auto rows = parse_csv(text.substr(0, text.find('\n') + 1));
       const bool descriptor_csv = !rows.empty() && std::any_of(rows[0].begin(), rows[0].end(), [](const std::string& h) {
         return h == "xi_0";
@@ -203,7 +196,7 @@ CommandRunner setup_train(CLI::App& sub) {
       if (descriptor_csv) {
         std::map<std::string, std::string> labels;
         if (!o->labels.empty())
-          for (const auto& [path, label] : read_manifest(read_text(o->labels), fs::path(o->labels).parent_path()))
+          for (const auto& [path, label] : read_manifest(read_file_bytes(o->labels), fs::path(o->labels).parent_path()))
             labels[path] = label;
         DescriptorTable table = read_descriptor_table(text, labels);
         samples = std::move(table.samples);

@@ -200,42 +200,38 @@ class CanonicalJsonTest(unittest.TestCase):
 class CppComparisonTest(unittest.TestCase):
     """The converted model, loaded by the C++ service code, predicts what scikit-learn predicts."""
 
-    def test_wish_predict_agrees(self) -> None:
-        wish = os.environ["WISH_BIN"]
-        tmp = Path(tempfile.mkdtemp(prefix="wish-cpp-"))
-        xi, y = synthetic_spectra(lmax=6)
+    @classmethod
+    def setUpClass(cls) -> None:
+        # One scikit-learn model on ξ(1..5) of fits at Lmax 6, converted to a wish model file.
+        cls.wish = os.environ["WISH_BIN"]
+        cls.tmp = Path(tempfile.mkdtemp(prefix="wish-cpp-"))
+        cls.xi, y = synthetic_spectra(lmax=6)
         spec = conv.feature_spec(l_max=5, log=True)
-        pipe = Pipeline([("s", StandardScaler()), ("v", SVC(C=10, gamma=0.1, probability=True, random_state=0))])
-        pipe.fit(conv.apply_feature_spec(xi, spec), y)
-        model = tmp / "model.json"
-        conv.write_model(conv.pipeline_to_model(pipe, spec, lmax=6), model)
-        csv_path = tmp / "describe.csv"
+        cls.features = conv.apply_feature_spec(cls.xi, spec)
+        cls.pipe = Pipeline([("s", StandardScaler()), ("v", SVC(C=10, gamma=0.1, probability=True, random_state=0))])
+        cls.pipe.fit(cls.features, y)
+        cls.model = cls.tmp / "model.json"
+        conv.write_model(conv.pipeline_to_model(cls.pipe, spec, lmax=6), cls.model)
+
+    def predict(self, xi: np.ndarray, *extra: str) -> subprocess.CompletedProcess:
+        csv_path = self.tmp / f"describe-{xi.shape[1] - 1}.csv"
         write_describe_csv(csv_path, xi)
-        r = subprocess.run([wish, "predict", "--model", str(model), "--descriptors", str(csv_path), "--json"],
-                           capture_output=True, text=True, timeout=120)
+        return subprocess.run([self.wish, "predict", "--model", str(self.model), "--descriptors", str(csv_path),
+                               *extra], capture_output=True, text=True, timeout=120)
+
+    def test_wish_predict_agrees(self) -> None:
+        r = self.predict(self.xi, "--json")
         self.assertEqual(r.returncode, 0, r.stderr)
         rows = json.loads(r.stdout)["predictions"]
-        self.assertEqual([row["file"] for row in rows], [f"meshes/m{i:03d}.obj" for i in range(len(xi))])
-        self.assertEqual([row["label"] for row in rows], list(pipe.predict(conv.apply_feature_spec(xi, spec))))
+        self.assertEqual([row["file"] for row in rows], [f"meshes/m{i:03d}.obj" for i in range(len(self.xi))])
+        self.assertEqual([row["label"] for row in rows], list(self.pipe.predict(self.features)))
         # Probabilities too: libsvm's Platt scaling, replayed by the C++ engine, against scikit-learn's.
-        probs = pipe.predict_proba(conv.apply_feature_spec(xi, spec))
-        for row, expected in zip(rows, probs):
-            got = [row["probabilities"][c] for c in pipe.classes_]
+        for row, expected in zip(rows, self.pipe.predict_proba(self.features)):
+            got = [row["probabilities"][c] for c in self.pipe.classes_]
             self.assertLess(max(abs(a - b) for a, b in zip(got, expected)), 1e-5)
 
     def test_wish_predict_refuses_a_table_of_another_lmax(self) -> None:
-        wish = os.environ["WISH_BIN"]
-        tmp = Path(tempfile.mkdtemp(prefix="wish-cpp-"))
-        xi, y = synthetic_spectra(lmax=6)
-        spec = conv.feature_spec(l_max=5, log=True)
-        pipe = Pipeline([("s", StandardScaler()), ("v", SVC(C=10, gamma=0.1, probability=True, random_state=0))])
-        pipe.fit(conv.apply_feature_spec(xi, spec), y)
-        model = tmp / "model.json"
-        conv.write_model(conv.pipeline_to_model(pipe, spec, lmax=6), model)
-        csv_path = tmp / "describe.csv"
-        write_describe_csv(csv_path, xi[:, :6])  # xi_0..xi_5: a fit at Lmax 5, not the model's 6
-        r = subprocess.run([wish, "predict", "--model", str(model), "--descriptors", str(csv_path)],
-                           capture_output=True, text=True, timeout=120)
+        r = self.predict(self.xi[:, :6])  # xi_0..xi_5: a fit at Lmax 5, not the model's 6
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("descriptor_mismatch", r.stderr)
         self.assertIn("Lmax 6", r.stderr)
