@@ -48,6 +48,9 @@ CommandRunner setup_serve(CLI::App& sub) {
       ->envname("WISH_SHUTDOWN_GRACE")->capture_default_str();
   sub.add_option("--retry-after", c.retry_after_seconds, "Retry-After seconds sent with 503")
       ->envname("WISH_RETRY_AFTER")->capture_default_str();
+  c.web_dir = WISH_WEB_DIR_DEFAULT;
+  sub.add_option("--web-dir", c.web_dir, "Directory of the web page served at GET / ('' for none)")
+      ->envname("WISH_WEB_DIR")->capture_default_str();
   sub.add_option("--auth-token", c.auth_token, "Require 'Authorization: Bearer TOKEN' on /v1/* (prefer the env var)")
       ->envname("WISH_AUTH_TOKEN");
   sub.add_flag("--json-log", c.json_log, "One JSON object per log line")->envname("WISH_JSON_LOG");

@@ -11,11 +11,13 @@ runtime_build=(
   libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsvm-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3
+  nodejs npm
 )
 test_extra=(
   clang libclang-rt-14-dev
   python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
   assimp-testmodels nginx-light wrk yamllint python3-yaml
+  chromium
 )
 
 want=("${runtime_build[@]}")
@@ -44,3 +46,12 @@ for alt in libblas.so.3-x86_64-linux-gnu liblapack.so.3-x86_64-linux-gnu; do
   target=$(update-alternatives --list "$alt" 2>/dev/null | grep -m1 openblas-pthread || true)
   if [[ -n "$target" ]]; then ${SUDO:-} update-alternatives --quiet --set "$alt" "$target"; fi
 done
+
+# The web page's npm packages (three.js; playwright-core for the browser tests, driving Debian's chromium: it never
+# downloads a browser), exactly as web/package-lock.json pins them. Skipped when node_modules matches the lock.
+root=$(cd "$(dirname "$0")/.." && pwd)
+if [[ -f "$root/web/package-lock.json" ]] && [[ ! -f "$root/web/node_modules/.package-lock.json" ||
+      "$root/web/package-lock.json" -nt "$root/web/node_modules/.package-lock.json" ]]; then
+  echo "install-deps: npm ci in web/"
+  (cd "$root/web" && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error)
+fi

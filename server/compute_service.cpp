@@ -64,6 +64,9 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
     json_options.quality = job.params.include_quality;
     json_options.reconstruction = job.params.include_reconstruction;
     json_options.reconstruction_level = job.params.reconstruction_level;
+    json_options.mesh = job.params.include_mesh;
+    json_options.sphere = job.params.include_sphere;
+    json_options.distortion = job.params.include_distortion;
     json_options.filename = job.part.filename;
     json_options.bytes = job.part.bytes->size();
 

@@ -30,6 +30,9 @@ struct ServerConfig {
   double shutdown_grace_seconds = 30;  // SIGTERM: finish in-flight requests within this, then cancel them
   int retry_after_seconds = 1;
 
+  // The web page (web/ built by web/build.mjs) served at GET /; empty: no page (GET / is 404).
+  std::filesystem::path web_dir;
+
   std::string auth_token;            // non-empty: /v1/* requires "Authorization: Bearer <token>"
   bool json_log = false;             // one JSON object per log line
   std::string log_level = "info";    // trace, debug, info, warn, error

@@ -17,6 +17,7 @@
 #include "server/logging.hpp"
 #include "server/openapi_document.hpp"
 #include "server/request_parsing.hpp"
+#include "server/static_assets.hpp"
 
 namespace wish::server {
 
@@ -238,6 +239,22 @@ struct HttpServer::Impl {
       t_request.route = "/v1/classify";
       handle_compute(Operation::Classify, req, res, reader);
     });
+
+    // Last: the web page's files (static_assets.hpp) for every other GET; a miss stays a bodiless 404, which the
+    // error handler turns into the usual error body.
+    if (!config.web_dir.empty()) {
+      server.Get(R"(/.*)", [this](const httplib::Request& req, httplib::Response& res) {
+        t_request.route = "/ (web page)";
+        StaticAsset asset = load_static_asset(config.web_dir, req.path);
+        if (asset.status != 200) {
+          res.status = asset.status;
+          return;
+        }
+        res.set_header("Cache-Control", asset.cache_control);
+        res.set_header("X-Content-Type-Options", "nosniff");
+        res.set_content(std::move(asset.body), asset.content_type);
+      });
+    }
   }
 
   // Reading the body ourselves (content reader) rather than letting httplib do it: a raw body sent with curl's

@@ -81,6 +81,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.steps = steps;
     } else if (name == "include") {
       out.include_coefficients = out.include_invariants = out.include_quality = out.include_reconstruction = false;
+      out.include_mesh = out.include_sphere = out.include_distortion = false;
       std::size_t start = 0;
       while (start <= value.size()) {
         const auto comma = value.find(',', start);
@@ -89,8 +90,13 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
         else if (item == "invariants") out.include_invariants = true;
         else if (item == "quality") out.include_quality = true;
         else if (item == "reconstruction") out.include_reconstruction = true;
+        else if (item == "mesh") out.include_mesh = true;
+        else if (item == "sphere") out.include_sphere = true;
+        else if (item == "distortion") out.include_distortion = true;
         else if (!item.empty())
-          bad_parameter(name, "include item '" + item + "' is not one of coefficients, invariants, quality, reconstruction",
+          bad_parameter(name,
+                        "include item '" + item +
+                            "' is not one of coefficients, invariants, quality, reconstruction, mesh, sphere, distortion",
                         value);
         if (comma == std::string::npos) break;
         start = comma + 1;

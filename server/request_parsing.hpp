@@ -25,6 +25,7 @@ struct ComputeParams {
   bool include_invariants = true;
   bool include_quality = true;
   bool include_reconstruction = false;
+  bool include_mesh = false, include_sphere = false, include_distortion = false;  // the "geometry" block
   int reconstruction_level = 3;
   std::string format;                 // "obj" | "ply" | "off" | "stl" | "" (hint only; content detection wins)
   bool explicit_descriptor() const { return lmax || method || steps; }

@@ -30,6 +30,10 @@ nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions
     out["reconstruction"]["level"] = options.reconstruction_level;
   }
 
+  if (options.mesh || options.sphere || options.distortion)
+    out["geometry"] = geometry_json(result.prepared.mesh, result.map.sphere,
+                                    {.mesh = options.mesh, .sphere = options.sphere, .distortion = options.distortion});
+
   out["timings"] = timings_json(result.timings, result.prediction.has_value());
   return out;
 }

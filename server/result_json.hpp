@@ -14,6 +14,7 @@ namespace wish::server {
 struct ResultJsonOptions {
   bool coefficients = false, invariants = true, quality = true, reconstruction = false;
   int reconstruction_level = 3;
+  bool mesh = false, sphere = false, distortion = false;  // parts of the "geometry" block (wire_json.hpp)
   std::string filename;                     // "" when the mesh came as a raw body
   std::size_t bytes = 0;                    // size of the uploaded mesh
   nlohmann::json settings;                  // DescriptorSettingsUsed: source, lmax, method, steps, ...

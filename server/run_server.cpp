@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <filesystem>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -29,6 +30,10 @@ int run_server(ServerConfig config) {
   std::istringstream lines(config.describe());
   for (std::string line; std::getline(lines, line);) spdlog::info("  {}", line);
   spdlog::info("BLAS: {}; compute workers use 1 OpenMP and 1 BLAS thread each", wish::linalg::describe_blas());
+
+  if (!config.web_dir.empty() && !std::filesystem::is_regular_file(config.web_dir / "index.html"))
+    spdlog::warn("web page: no index.html in {} (build it: cmake --build ... --target wish_web); GET / is 404",
+                 config.web_dir.string());
 
   ModelRegistry models(config.models_dir, config.default_model);
   models.reload();

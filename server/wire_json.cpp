@@ -3,11 +3,13 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/common/errors.hpp"
 #include "core/sh/sh_basis.hpp"
 #include "core/sh/sh_invariants.hpp"
+#include "core/spherical_map/map_verification.hpp"
 #include "server/error_mapping.hpp"
 
 namespace wish::server {
@@ -203,6 +205,36 @@ nlohmann::json mesh_geometry_json(const Mesh& m) {
     vertices.push_back({json_number(m.vertices(i, 0)), json_number(m.vertices(i, 1)), json_number(m.vertices(i, 2))});
   for (Eigen::Index i = 0; i < m.faces.rows(); ++i) faces.push_back({m.faces(i, 0), m.faces(i, 1), m.faces(i, 2)});
   return {{"vertices", std::move(vertices)}, {"faces", std::move(faces)}};
+}
+
+nlohmann::json geometry_json(const Mesh& mesh, const Eigen::MatrixX3d& sphere, const GeometryJsonParts& parts) {
+  auto flat_rows = [](const auto& matrix) {
+    nlohmann::json out = nlohmann::json::array();
+    out.get_ref<nlohmann::json::array_t&>().reserve(static_cast<std::size_t>(matrix.size()));
+    for (Eigen::Index i = 0; i < matrix.rows(); ++i)
+      for (Eigen::Index c = 0; c < matrix.cols(); ++c) {
+        if constexpr (std::is_integral_v<typename std::decay_t<decltype(matrix)>::Scalar>) out.push_back(matrix(i, c));
+        else out.push_back(json_number(matrix(i, c)));
+      }
+    return out;
+  };
+  auto flat_vector = [](const Eigen::VectorXd& v) {
+    nlohmann::json out = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(json_number(v[i]));
+    return out;
+  };
+  nlohmann::json out{{"vertex_count", mesh.vertices.rows()}, {"face_count", mesh.faces.rows()}};
+  if (parts.mesh) {
+    out["vertices"] = flat_rows(mesh.vertices);
+    out["faces"] = flat_rows(mesh.faces);
+  }
+  if (parts.sphere) out["sphere"] = flat_rows(sphere);
+  if (parts.distortion) {
+    const auto d = spherical::face_distortion(mesh.vertices, mesh.faces, sphere);
+    out["conformal_distortion"] = flat_vector(d.conformal);
+    out["area_ratio"] = flat_vector(d.area_ratio);
+  }
+  return out;
 }
 
 nlohmann::json timings_json(const StageTimings& t, bool classify) {

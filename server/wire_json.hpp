@@ -53,6 +53,18 @@ ShDescriptor descriptor_from_json(const nlohmann::json& json);
 nlohmann::json prediction_json(const Prediction& prediction, const std::string& model_name,
                                const std::string& model_version);
 nlohmann::json mesh_geometry_json(const Mesh& mesh);  // {"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}
+// GeometryBlock, for viewers: flat arrays of the mesh that was mapped (after repairs; the order of its vertices
+// and faces is that of `prepared` in the mesh block), its sphere map and the per-face distortion of the map.
+//   "vertex_count": V, "face_count": F,
+//   "vertices": [x0, y0, z0, x1, ...] (3V),  "faces": [a0, b0, c0, ...] (3F, 0-based, outward orientation)  (mesh)
+//   "sphere": [u0x, u0y, u0z, ...] (3V, unit vectors: the image of each vertex)                          (sphere)
+//   "conformal_distortion": [K_0, ...] (F; K = sigma1/sigma2 >= 1, null when a sphere triangle is degenerate),
+//   "area_ratio": [r_0, ...] (F; sphere area share / input area share, 1 = equiareal)                 (distortion)
+// The map block's conformal mean / p99 / max and area_distortion are summaries of these two arrays.
+struct GeometryJsonParts {
+  bool mesh = false, sphere = false, distortion = false;
+};
+nlohmann::json geometry_json(const Mesh& mesh, const Eigen::MatrixX3d& sphere, const GeometryJsonParts& parts);
 // Timings: read, validate, map, fit, total; "classify" too with `classify`.
 nlohmann::json timings_json(const StageTimings& timings, bool classify = false);
 

@@ -25,14 +25,40 @@ Eigen::Matrix2d local_frame(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1
 
 }  // namespace
 
+FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
+                               const Eigen::MatrixX3d& sphere) {
+  const Eigen::Index nf = faces.rows();
+  FaceDistortion d;
+  d.conformal.resize(nf);
+  d.area_ratio.resize(nf);
+  Eigen::VectorXd in_area(nf), out_area(nf);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Eigen::Vector3d a = sphere.row(faces(f, 0)), b = sphere.row(faces(f, 1)), c = sphere.row(faces(f, 2));
+    const Eigen::Vector3d p0 = input_vertices.row(faces(f, 0)), p1 = input_vertices.row(faces(f, 1)),
+                          p2 = input_vertices.row(faces(f, 2));
+    in_area[f] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    out_area[f] = 0.5 * (b - a).cross(c - a).norm();
+    const Eigen::Matrix2d j = local_frame(a, b, c) * local_frame(p0, p1, p2).inverse();
+    // Singular values of a 2×2 matrix: σ₁,₂ = (√(‖J‖²_F + 2|det J|) ± √(‖J‖²_F − 2|det J|)) / 2.
+    const double fro2 = j.squaredNorm(), det = std::abs(j.determinant());
+    const double sp = std::sqrt(std::max(0.0, fro2 + 2 * det)), sm = std::sqrt(std::max(0.0, fro2 - 2 * det));
+    const double s1 = 0.5 * (sp + sm), s2 = 0.5 * (sp - sm);
+    double kf = s2 > 0 ? s1 / s2 : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(kf)) kf = std::numeric_limits<double>::infinity();
+    d.conformal[f] = kf;
+  }
+  const double input_area = in_area.sum(), sphere_area = out_area.sum();
+  for (Eigen::Index f = 0; f < nf; ++f) d.area_ratio[f] = (out_area[f] / sphere_area) / (in_area[f] / input_area);
+  return d;
+}
+
 MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                        const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds) {
   MapQuality q;
   for (Eigen::Index i = 0; i < sphere.rows(); ++i)
     if (!sphere.row(i).allFinite()) ++q.non_finite_vertices;
   const Eigen::Index nf = faces.rows();
-  double input_area = 0, sphere_area = 0, solid_angle = 0;
-  std::vector<double> in_area(static_cast<size_t>(nf)), out_area(static_cast<size_t>(nf));
+  double solid_angle = 0;
   q.min_face_area = q.min_face_height = std::numeric_limits<double>::infinity();
   for (Eigen::Index f = 0; f < nf; ++f) {
     const Eigen::Vector3d a = sphere.row(faces(f, 0)), b = sphere.row(faces(f, 1)), c = sphere.row(faces(f, 2));
@@ -48,33 +74,15 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
     const double num = a.dot(b.cross(c));
     const double den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
     solid_angle += 2.0 * std::atan2(num, den);
-    const Eigen::Vector3d p0 = input_vertices.row(faces(f, 0)), p1 = input_vertices.row(faces(f, 1)),
-                          p2 = input_vertices.row(faces(f, 2));
-    in_area[static_cast<size_t>(f)] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
-    out_area[static_cast<size_t>(f)] = area;
-    input_area += in_area[static_cast<size_t>(f)];
-    sphere_area += area;
   }
   q.degree = static_cast<int>(std::lround(solid_angle / (4.0 * std::numbers::pi)));
-  // Conformal distortion and area distortion.
-  std::vector<double> k(static_cast<size_t>(nf));
+  // Conformal distortion and area distortion, from the per-face figures.
+  const FaceDistortion d = face_distortion(input_vertices, faces, sphere);
+  std::vector<double> k(d.conformal.data(), d.conformal.data() + nf);
   double ksum = 0, log_sum = 0;
   for (Eigen::Index f = 0; f < nf; ++f) {
-    const Eigen::Matrix2d p = local_frame(input_vertices.row(faces(f, 0)), input_vertices.row(faces(f, 1)),
-                                          input_vertices.row(faces(f, 2)));
-    const Eigen::Matrix2d s =
-        local_frame(sphere.row(faces(f, 0)), sphere.row(faces(f, 1)), sphere.row(faces(f, 2)));
-    const Eigen::Matrix2d j = s * p.inverse();
-    // Singular values of a 2×2 matrix: σ₁,₂ = (√(‖J‖²_F + 2|det J|) ± √(‖J‖²_F − 2|det J|)) / 2.
-    const double fro2 = j.squaredNorm(), det = std::abs(j.determinant());
-    const double sp = std::sqrt(std::max(0.0, fro2 + 2 * det)), sm = std::sqrt(std::max(0.0, fro2 - 2 * det));
-    const double s1 = 0.5 * (sp + sm), s2 = 0.5 * (sp - sm);
-    double kf = s2 > 0 ? s1 / s2 : std::numeric_limits<double>::infinity();
-    if (!std::isfinite(kf)) kf = std::numeric_limits<double>::infinity();
-    k[static_cast<size_t>(f)] = kf;
-    ksum += kf;
-    const double ratio = (out_area[static_cast<size_t>(f)] / sphere_area) / (in_area[static_cast<size_t>(f)] / input_area);
-    log_sum += std::abs(std::log(ratio));
+    ksum += d.conformal[f];
+    log_sum += std::abs(std::log(d.area_ratio[f]));
   }
   if (nf > 0) {
     q.conformal_mean = ksum / static_cast<double>(nf);

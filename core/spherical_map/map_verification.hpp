@@ -21,6 +21,17 @@ namespace wish::spherical {
 MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                        const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds);
 
+// Per-face figures behind MapQuality's summaries (what a viewer colours the map by), in face order:
+//  * conformal[f] = K_f = σ₁/σ₂ ≥ 1 of the affine map input triangle → sphere chord triangle (+inf when the sphere
+//    triangle is degenerate);
+//  * area_ratio[f] = (a_f / Σa) / (A_f / ΣA): sphere area share over input area share (1 = equiareal).
+// measure_map's conformal mean / p99 / max and area distortion exp(mean |log area_ratio|) are computed from these.
+struct FaceDistortion {
+  Eigen::VectorXd conformal, area_ratio;
+};
+FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
+                               const Eigen::MatrixX3d& sphere);
+
 // First failed check in the order "non_finite", "flipped_faces", "degenerate_faces", "degree",
 // "conformal_distortion"; empty when the map passes.
 std::string failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
