@@ -419,6 +419,8 @@ function showResult(item) {
     const g = item.result.geometry, d = item.result.descriptor;
     item.cache = { fitErrorLmax: fitError(g.vertices, evaluateSurface(d.coefficients, g.sphere, d.lmax)) };
   }
+  // A result shown anew gets its views framed; re-colouring or moving the slider keeps the camera.
+  item.cache.inputShown = item.cache.sphereShown = item.cache.reconShown = false;
   const slider = $('#degree-slider');
   slider.max = item.result.descriptor.lmax;
   slider.value = item.result.descriptor.lmax;

@@ -1,0 +1,241 @@
+// The web page in a real browser: Debian's chromium, headless, driven by playwright-core (web/node_modules; it
+// never downloads a browser). Starts the real `wish serve` (WISH_BIN, --port 0) on the bundled default model, loads
+// GET /, uploads meshes through the file picker and checks what a user sees against what the API returns.
+// Screenshots of each view go to WISH_SCREENSHOT_DIR (ctest: <build>/web-screenshots).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { copyFileSync, existsSync, mkdirSync, mkdtempSync, openSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const source = process.env.WISH_SOURCE_DIR || join(here, '..', '..');
+const wishBin = process.env.WISH_BIN || join(source, 'build', 'release', 'cli', 'wish');
+const chromiumPath = process.env.WISH_CHROMIUM || '/usr/bin/chromium';
+const shotDir = process.env.WISH_SCREENSHOT_DIR || join(source, 'build', 'web-screenshots');
+const meshes = join(source, 'data', 'meshes');
+const missing = !existsSync(wishBin) ? `wish binary not found at ${wishBin}`
+  : !existsSync(chromiumPath) ? `chromium not found at ${chromiumPath} (scripts/install-deps.sh --test installs it)`
+  : !existsSync(join(source, 'web', 'node_modules', 'playwright-core')) ? 'web/node_modules missing: run npm ci in web/'
+  : null;
+
+const work = mkdtempSync(join(tmpdir(), 'wish-web-test-'));
+const servers = [];
+let browser = null;
+
+// A `wish serve` on a free port; resolves with its base URL once it logs "listening on".
+async function startServer(extraArgs = []) {
+  const models = join(work, `models-${servers.length}`);
+  mkdirSync(models);
+  copyFileSync(join(source, 'data', 'models', 'default.json'), join(models, 'default.json'));
+  const logPath = join(work, `server-${servers.length}.log`);
+  const log = openSync(logPath, 'w');
+  const proc = spawn(wishBin, ['serve', '--models', models, '--host', '127.0.0.1', '--port', '0', '--workers', '2',
+                               ...extraArgs], { stdio: ['ignore', log, log] });
+  servers.push(proc);
+  for (let i = 0; i < 600; ++i) {  // at most 30 s
+    const m = /listening on http:\/\/127\.0\.0\.1:(\d+)/.exec(readFileSync(logPath, 'utf8'));
+    if (m) return `http://127.0.0.1:${m[1]}`;
+    if (proc.exitCode !== null) break;
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  throw new Error(`server did not start: ${readFileSync(logPath, 'utf8').slice(-2000)}`);
+}
+
+async function newPage() {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  // Chromium logs every 4xx response as a console error; those are the API's answers the page shows, not faults.
+  page.on('console', (m) => {
+    if (m.type() === 'error' && !/status of 4\d\d/.test(m.text())) problems.push(`console: ${m.text()}`);
+  });
+  // Offline: any request that leaves the service's origin is a failure (the page must not use a CDN).
+  await page.route('**/*', (route) => {
+    const url = new URL(route.request().url());
+    if (url.hostname !== '127.0.0.1') { problems.push(`external request: ${url}`); return route.abort(); }
+    return route.continue();
+  });
+  return { page, problems };
+}
+
+// Pixels of a view's WebGL canvas (read back through a 2-D canvas): the fraction that is not the white background
+// and a checksum, so that "draws something" and "changed" are both checkable.
+function canvasStats(page, selector) {
+  return page.evaluate((sel) => {
+    const gl = document.querySelector(`${sel} canvas`);
+    const c = document.createElement('canvas');
+    c.width = gl.width; c.height = gl.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(gl, 0, 0);
+    const d = ctx.getImageData(0, 0, c.width, c.height).data;
+    let drawn = 0, sum = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (d[i] < 250 || d[i + 1] < 250 || d[i + 2] < 250) drawn++;
+      sum = (sum * 31 + d[i] * 7 + d[i + 1] * 3 + d[i + 2]) % 1000000007;
+    }
+    return { drawn: drawn / (d.length / 4), sum, width: c.width, height: c.height };
+  }, selector);
+}
+
+async function postRaw(base, path, bytes) {
+  const r = await fetch(base + path, { method: 'POST', body: bytes, headers: { 'Content-Type': 'application/octet-stream' } });
+  return { status: r.status, body: await r.json() };
+}
+
+const BROKEN = 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n';  // truncated: the 4th vertex and both faces are missing
+
+before(async () => {
+  if (missing) return;
+  mkdirSync(shotDir, { recursive: true });
+  const { chromium } = await import(join(source, 'web', 'node_modules', 'playwright-core', 'index.mjs'));
+  browser = await chromium.launchPersistentContext(join(work, 'profile'), {
+    executablePath: chromiumPath, headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+           '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+});
+
+after(async () => {
+  if (browser) await browser.close();
+  for (const p of servers) p.kill('SIGTERM');
+  await Promise.all(servers.map((p) => (p.exitCode !== null ? null : new Promise((r) => p.once('exit', r)))));
+  rmSync(work, { recursive: true, force: true });
+});
+
+test('upload, views, quality table, slider, errors and batch table', { skip: missing || false, timeout: 300000 }, async () => {
+  const base = await startServer();
+  const { page, problems } = await newPage();
+  await page.goto(base + '/');
+  await page.waitForFunction(() => document.querySelectorAll('#model-select option').length > 0, null, { timeout: 30000 });
+
+  const brokenPath = join(work, 'broken.off');
+  writeFileSync(brokenPath, BROKEN);
+  const files = [join(meshes, 'celegans_cell.obj'), brokenPath, join(meshes, 'eight.off'), join(meshes, 'ellipsoid.off')];
+  await page.setInputFiles('#file-input', files);
+  await page.waitForFunction((n) => {
+    const cells = [...document.querySelectorAll('#batch-table tbody td[data-status]')];
+    return cells.length === n && cells.every((c) => c.dataset.status === 'done' || c.dataset.status === 'error');
+  }, files.length, { timeout: 240000 });
+
+  // The batch table lists every file.
+  const listed = await page.$$eval('#batch-table tbody tr', (rows) => rows.map((r) => r.dataset.file));
+  assert.deepEqual(listed.sort(), ['broken.off', 'celegans_cell.obj', 'eight.off', 'ellipsoid.off']);
+
+  // Broken files show the API's own error code (asked for independently here).
+  for (const name of ['broken.off', 'eight.off']) {
+    const api = await postRaw(base, '/v1/classify', readFileSync(name === 'broken.off' ? brokenPath : join(meshes, name)));
+    assert.ok(api.status >= 400, `${name}: ${api.status}`);
+    const code = await page.$eval(`#batch-table tr[data-file="${name}"] td[data-status]`, (td) => td.dataset.code);
+    assert.equal(code, api.body.error.code, name);
+    const text = await page.$eval(`#batch-table tr[data-file="${name}"] td[data-status]`, (td) => td.textContent);
+    assert.ok(text.includes(String(api.status)) && text.includes(api.body.error.code), text);
+  }
+  await page.click('#batch-table tr[data-file="eight.off"]');
+  const detailError = await page.textContent('#detail-error');
+  assert.match(detailError, /HTTP 422 genus_nonzero/);
+
+  // Open the C. elegans cell: the 3-D views draw.
+  await page.click('#batch-table tr[data-file="celegans_cell.obj"]');
+  await page.waitForSelector('#input-view canvas');
+  await page.waitForTimeout(300);
+  const views = ['#input-view', '#sphere-view', '#recon-view'];
+  for (const v of views) {
+    const s = await canvasStats(page, v);
+    assert.ok(s.width > 100 && s.height > 100, `${v} size ${s.width}x${s.height}`);
+    assert.ok(s.drawn > 0.03 && s.drawn < 0.95, `${v}: ${(100 * s.drawn).toFixed(1)} % of the pixels drawn`);
+  }
+
+  // Rotating the input view (a mouse drag: OrbitControls) changes its pixels.
+  const before = await canvasStats(page, '#input-view');
+  const box = await page.locator('#input-view canvas').boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2 + 40, { steps: 8 });
+  await page.mouse.up();
+  const rotated = await canvasStats(page, '#input-view');
+  assert.notEqual(rotated.sum, before.sum, 'the input view did not change when rotated');
+  assert.ok(rotated.drawn > 0.03);
+
+  // Colouring by a per-face field changes the picture too.
+  await page.selectOption('#input-field', 'conformal');
+  const coloured = await canvasStats(page, '#input-view');
+  assert.notEqual(coloured.sum, rotated.sum);
+
+  // The quality table shows the numbers of the API's JSON for this mesh (requested independently; the map is
+  // deterministic), as printed: 6 significant digits.
+  const api = await postRaw(base, '/v1/classify?include=quality', readFileSync(join(meshes, 'celegans_cell.obj')));
+  assert.equal(api.status, 200);
+  const cells = await page.$$eval('#quality-table td[data-q]', (tds) => Object.fromEntries(tds.map((td) => [td.dataset.q, td.textContent])));
+  const q = api.body.map.quality;
+  for (const key of ['flipped_faces', 'degenerate_faces', 'degree', 'conformal_mean', 'conformal_p99', 'conformal_max',
+                     'area_distortion', 'roundness']) {
+    const shown = Number(cells[key]);
+    assert.ok(Math.abs(shown - q[key]) <= 5e-6 * Math.abs(q[key]) + 1e-300, `${key}: shown ${cells[key]}, JSON ${q[key]}`);
+  }
+  assert.equal(cells.method, api.body.map.method);
+  assert.equal(cells.status, api.body.map.status);
+  const label = await page.textContent('#predicted-label');
+  assert.equal(label, api.body.prediction.label);
+
+  // The reconstruction at Lmax, evaluated in the browser from the coefficients, reproduces the service's fit error
+  // (mean |x - x_L| at the input vertices): the page's SH conventions are the service's.
+  const lmax = api.body.descriptor.lmax;
+  assert.equal(await page.getAttribute('#degree-slider', 'max'), String(lmax));
+  const meanAtLmax = Number(await page.textContent('#recon-stats .recon-mean'));
+  const serviceMean = api.body.descriptor.fit_error.mean;
+  assert.ok(Math.abs(meanAtLmax - serviceMean) <= 1e-5 * serviceMean, `browser ${meanAtLmax}, service ${serviceMean}`);
+
+  await page.locator('#input-view').screenshot({ path: join(shotDir, 'input-mesh.png') });
+  await page.locator('#sphere-view').screenshot({ path: join(shotDir, 'sphere-map.png') });
+  await page.locator('#recon-view').screenshot({ path: join(shotDir, 'reconstruction-lmax.png') });
+  await page.locator('#spectrum').screenshot({ path: join(shotDir, 'spectrum.png') });
+  await page.locator('#prediction').screenshot({ path: join(shotDir, 'prediction.png') });
+
+  // The slider changes the reconstruction: degree 1 keeps the first-order terms only (an ellipsoid).
+  const reconLmax = await canvasStats(page, '#recon-view');
+  await page.$eval('#degree-slider', (s) => { s.value = '1'; s.dispatchEvent(new Event('input')); });
+  const reconL1 = await canvasStats(page, '#recon-view');
+  assert.notEqual(reconL1.sum, reconLmax.sum, 'the reconstruction did not change with the degree');
+  assert.ok(reconL1.drawn > 0.03);
+  const meanAtL1 = Number(await page.textContent('#recon-stats .recon-mean'));
+  assert.ok(meanAtL1 > meanAtLmax, `fit error at L=1 (${meanAtL1}) should exceed the one at Lmax (${meanAtLmax})`);
+  await page.locator('#recon-view').screenshot({ path: join(shotDir, 'reconstruction-l1.png') });
+
+  // Sorting by file name orders the rows.
+  await page.click('#batch-table th[data-key="file"]');
+  const sorted = await page.$$eval('#batch-table tbody tr', (rows) => rows.map((r) => r.dataset.file));
+  assert.deepEqual(sorted, ['broken.off', 'celegans_cell.obj', 'eight.off', 'ellipsoid.off']);
+  await page.click('#batch-table th[data-key="file"]');
+  const reversed = await page.$$eval('#batch-table tbody tr', (rows) => rows.map((r) => r.dataset.file));
+  assert.deepEqual(reversed, ['ellipsoid.off', 'eight.off', 'celegans_cell.obj', 'broken.off']);
+
+  // The CSV download has one row per file.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-csv')]);
+  const csv = readFileSync(await download.path(), 'utf8').trim().split('\n');
+  assert.equal(csv.length, 1 + files.length);
+  assert.ok(csv.some((line) => line.startsWith('eight.off,422,genus_nonzero')), csv.join('\n'));
+
+  await page.screenshot({ path: join(shotDir, 'page.png'), fullPage: true });
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('with a token, the page asks for it and sends it', { skip: missing || false, timeout: 120000 }, async () => {
+  const base = await startServer(['--auth-token', 'page-test-token']);
+  const { page, problems } = await newPage();
+  await page.goto(base + '/');
+  await page.waitForSelector('#token-dialog[open]', { timeout: 30000 });
+  await page.fill('#token-input', 'page-test-token');
+  await page.click('#token-submit');
+  await page.waitForFunction(() => document.querySelectorAll('#model-select option').length > 0, null, { timeout: 30000 });
+  const status = await page.textContent('#service-status');
+  assert.match(status, /1 model\(s\) loaded/);
+  // Nothing was stored by the page.
+  const stored = await page.evaluate(() => [localStorage.length, sessionStorage.length, document.cookie]);
+  assert.deepEqual(stored, [0, 0, '']);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
