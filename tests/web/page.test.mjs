@@ -239,3 +239,28 @@ test('with a token, the page asks for it and sends it', { skip: missing || false
   assert.deepEqual(problems, []);
   await page.close();
 });
+
+test('describe with a chosen Lmax and method', { skip: missing || false, timeout: 120000 }, async () => {
+  const base = await startServer();
+  const { page, problems } = await newPage();
+  await page.goto(base + '/');
+  await page.waitForFunction(() => document.querySelectorAll('#model-select option').length > 0, null, { timeout: 30000 });
+  await page.selectOption('#operation', 'describe');
+  assert.ok(await page.isVisible('#lmax-input'));
+  await page.fill('#lmax-input', '8');
+  await page.selectOption('#method-select', 'cmcf');
+  await page.setInputFiles('#file-input', [join(meshes, 'ellipsoid.off')]);
+  await page.waitForSelector('#batch-table td[data-status="done"]', { timeout: 60000 });
+  await page.click('#batch-table tr[data-file="ellipsoid.off"]');
+  assert.equal(await page.getAttribute('#degree-slider', 'max'), '8');
+  const state = await page.evaluate(() => {
+    const r = window.wishPage.state.items[0].result;
+    return { lmax: r.descriptor.lmax, method: r.descriptor.settings.method, prediction: 'prediction' in r };
+  });
+  assert.deepEqual(state, { lmax: 8, method: 'cmcf', prediction: false });
+  assert.match(await page.textContent('#prediction'), /no prediction/);
+  // 8 degrees: the spectrum shows l = 1..8.
+  assert.equal(await page.locator('#spectrum circle').count(), 8);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
