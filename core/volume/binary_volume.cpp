@@ -81,4 +81,35 @@ void clear_border(BinaryVolume& v) {
         if (x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1) v.labels[v.index(x, y, z)] = 0;
 }
 
+namespace {
+
+// One dilation (value 1) or erosion (value 0) step with the 6-neighbourhood: a voxel takes `value` when it or one of
+// its 6 face neighbours has it.
+void cross_step(BinaryVolume& v, std::uint8_t value) {
+  const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
+  const std::vector<std::uint8_t> src = v.labels;
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::size_t i = v.index(x, y, z);
+        if (src[i] == value) continue;
+        const bool near = (x > 0 && src[i - 1] == value) || (x + 1 < nx && src[i + 1] == value) ||
+                          (y > 0 && src[i - nx] == value) || (y + 1 < ny && src[i + nx] == value) ||
+                          (z > 0 && src[i - static_cast<std::size_t>(nx) * ny] == value) ||
+                          (z + 1 < nz && src[i + static_cast<std::size_t>(nx) * ny] == value);
+        if (near) v.labels[i] = value;
+      }
+}
+
+}  // namespace
+
+std::int64_t morphological_close(BinaryVolume& v, int radius) {
+  std::int64_t before = 0, after = 0;
+  for (auto l : v.labels) before += l;
+  for (int r = 0; r < radius; ++r) cross_step(v, 1);
+  for (int r = 0; r < radius; ++r) cross_step(v, 0);
+  for (auto l : v.labels) after += l;
+  return after - before;
+}
+
 }  // namespace wish::volume

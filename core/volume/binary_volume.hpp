@@ -35,5 +35,8 @@ int keep_largest_component(BinaryVolume& volume);
 int fill_cavities(BinaryVolume& volume);
 // Clears the outermost layer so the surface is closed inside the grid.
 void clear_border(BinaryVolume& volume);
+// Morphological closing with the 6-neighbourhood cross, `radius` dilations then `radius` erosions (the border layer
+// must be background and `radius` + 1 layers free for the result to be exact). Returns the voxels added.
+std::int64_t morphological_close(BinaryVolume& volume, int radius);
 
 }  // namespace wish::volume
