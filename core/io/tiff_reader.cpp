@@ -116,6 +116,8 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
       throw LimitExceededError("TIFF has more than " + std::to_string(limits.max_pages) + " pages",
                                {{"limit", std::string("max_pages")}, {"value", pages}, {"allowed", limits.max_pages}});
   } while (TIFFReadDirectory(tif));
+  // A chain that ends in an unreadable directory is a damaged file, not a shorter stack.
+  if (!file.first_error.empty()) fail(file, "the directory of page " + std::to_string(pages) + " cannot be read", pages);
   if (!TIFFSetDirectory(tif, 0)) fail(file, "cannot return to the first page", 0);
 
   std::uint32_t width = 0, height = 0;
