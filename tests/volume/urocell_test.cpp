@@ -1,4 +1,4 @@
-// UroCell (../shared/data/urocell, skipped when absent): the complete (not border-touching, >= 500 voxels) objects
+// UroCell (../shared/data/urocell, skipped when absent; suite named Slow* so the sanitizer run skips it): the complete (not border-touching, >= 500 voxels) objects
 // per class counted by find_objects equal an independent count (tests/volume/urocell_counts.py: numpy + scipy's
 // ndimage.label, no WISH code); every complete endolysosome is meshed closed genus 0 or refused with a reason.
 #include <gtest/gtest.h>
@@ -49,7 +49,7 @@ std::map<std::string, long> independent_counts(const fs::path& root) {
   return counts;
 }
 
-TEST(UroCell, CompleteObjectCountsMatchAnIndependentCount) {
+TEST(SlowUroCell, CompleteObjectCountsMatchAnIndependentCount) {
   WISH_SKIP_WITHOUT_SHARED_DATA();
   const fs::path root = *wish::testing::shared_data_dir() / "urocell";
   if (!fs::exists(root)) GTEST_SKIP() << "urocell absent";
@@ -66,7 +66,7 @@ TEST(UroCell, CompleteObjectCountsMatchAnIndependentCount) {
   }
 }
 
-TEST(UroCell, EveryCompleteEndolysosomeIsMeshedGenusZeroOrRefusedWithAReason) {
+TEST(SlowUroCell, EveryCompleteEndolysosomeIsMeshedGenusZeroOrRefusedWithAReason) {
   WISH_SKIP_WITHOUT_SHARED_DATA();
   const fs::path root = *wish::testing::shared_data_dir() / "urocell/lyso/binary";
   if (!fs::exists(root)) GTEST_SKIP() << "urocell absent";
