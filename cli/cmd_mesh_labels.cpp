@@ -50,7 +50,7 @@ int run(const MeshLabelsOptions& o) {
   fs::create_directories(o.out);
   std::ofstream csv(fs::path(o.out) / "objects.csv");
   csv << "volume,label_id,voxel_count,centroid_x,centroid_y,centroid_z,bbox_min_x,bbox_min_y,bbox_min_z,bbox_max_x,"
-         "bbox_max_y,bbox_max_z,truncated,genus,status,reason,file,vertices,faces,area,volume,voxel_volume,"
+         "bbox_max_y,bbox_max_z,truncated,genus,status,reason,file,vertices,faces,mesh_area,mesh_volume,voxel_volume,"
          "volume_ratio,raw_area,unit,repairs,t_extraction,t_surface,t_smoothing,t_decimation\n";
   const VolumeOptions options = to_volume_options(o.volume);
   bool all_ok = true;
