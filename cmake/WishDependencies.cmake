@@ -6,6 +6,9 @@ find_package(spdlog REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
+find_package(ZLIB REQUIRED)
+find_package(TIFF 4.5 REQUIRED)
+find_package(OpenMesh REQUIRED)
 
 # SuiteSparse 5.x on Debian 12 ships no CMake package: find CHOLMOD by hand.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)

@@ -4,18 +4,20 @@
 #include <cstdio>
 
 #include "core/common/errors.hpp"
-#include "core/synth/label_volume.hpp"
-#include "core/synth/marching_tetrahedra.hpp"
 #include "core/synth/synth_random.hpp"
-#include "core/synth/taubin_smoothing.hpp"
+#include "core/volume/binary_volume.hpp"
+#include "core/volume/marching_tetrahedra.hpp"
+#include "core/volume/taubin_smoothing.hpp"
 
 namespace wish::synth {
 namespace {
 
-LabelVolume voxelise(const NucleusShape& shape, double spacing) {
+using volume::BinaryVolume;
+
+BinaryVolume voxelise(const NucleusShape& shape, double spacing) {
   const double R = shape.bounding_radius();
-  LabelVolume v;
-  v.spacing = spacing;
+  BinaryVolume v;
+  v.spacing = Eigen::Vector3d::Constant(spacing);
   Eigen::Vector3d lo, hi;
   for (int k = 0; k < 3; ++k) {
     // The grid is aligned to multiples of the voxel size in world space, as one segmented volume would be.
@@ -48,13 +50,13 @@ DemoMesh generate_demo_nucleus(int class_index, int index, const DemoOptions& op
     const NucleusShape shape = sample_nucleus_shape(
         class_index, mix_seed(options.seed, static_cast<std::uint64_t>(class_index) + 1,
                               static_cast<std::uint64_t>(index) * 64 + static_cast<std::uint64_t>(attempt)));
-    LabelVolume volume = voxelise(shape, options.voxel_size);
-    clear_border(volume);
-    keep_largest_component(volume);
-    fill_cavities(volume);
-    Mesh mesh = marching_tetrahedra(volume);
-    taubin_smooth(mesh, options.smoothing_iterations);
-    const SurfaceTopology topology = analyze_surface(mesh);
+    BinaryVolume volume = voxelise(shape, options.voxel_size);
+    volume::clear_border(volume);
+    volume::keep_largest_component(volume);
+    volume::fill_cavities(volume);
+    Mesh mesh = volume::marching_tetrahedra(volume);
+    volume::taubin_smooth(mesh, options.smoothing_iterations);
+    const volume::SurfaceTopology topology = volume::analyze_surface(mesh);
     if (topology.closed_genus0()) {
       out.mesh = std::move(mesh);
       out.attempts = attempt + 1;

@@ -12,7 +12,7 @@
 
 #include "core/mesh/mesh.hpp"
 #include "core/synth/nucleus_shape.hpp"
-#include "core/synth/surface_topology.hpp"
+#include "core/volume/surface_topology.hpp"
 
 namespace wish::synth {
 
@@ -29,7 +29,7 @@ struct DemoMesh {
   std::string name;    // "<label>_<index, 3 digits>"
   Mesh mesh;           // µm
   int attempts = 1;
-  SurfaceTopology topology;
+  volume::SurfaceTopology topology;
 };
 
 // Throws InvalidInputError("generation_failed") when no attempt gives a closed genus-0 surface.

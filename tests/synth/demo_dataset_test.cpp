@@ -3,12 +3,13 @@
 #include <cstring>
 
 #include "core/synth/demo_dataset.hpp"
-#include "core/synth/label_volume.hpp"
-#include "core/synth/marching_tetrahedra.hpp"
-#include "core/synth/surface_topology.hpp"
+#include "core/volume/binary_volume.hpp"
+#include "core/volume/marching_tetrahedra.hpp"
+#include "core/volume/surface_topology.hpp"
 #include "core/validation/mesh_report.hpp"
 
 namespace wish::synth {
+using namespace wish::volume;
 namespace {
 
 bool same_bytes(const Mesh& a, const Mesh& b) {
@@ -18,7 +19,7 @@ bool same_bytes(const Mesh& a, const Mesh& b) {
 }
 
 TEST(MarchingTetrahedra, SingleVoxelIsAClosedOctahedronLikeSurface) {
-  LabelVolume v;
+  BinaryVolume v;
   v.dims = {3, 3, 3};
   v.labels.assign(27, 0);
   v.labels[v.index(1, 1, 1)] = 1;
@@ -29,7 +30,7 @@ TEST(MarchingTetrahedra, SingleVoxelIsAClosedOctahedronLikeSurface) {
 }
 
 TEST(MarchingTetrahedra, TorusHasGenusOne) {
-  LabelVolume v;
+  BinaryVolume v;
   v.dims = {24, 24, 10};
   v.labels.assign(24 * 24 * 10, 0);
   for (int z = 2; z < 8; ++z)
@@ -44,8 +45,8 @@ TEST(MarchingTetrahedra, TorusHasGenusOne) {
   EXPECT_FALSE(t.closed_genus0());
 }
 
-TEST(LabelVolume, LargestComponentAndCavities) {
-  LabelVolume v;
+TEST(BinaryVolume, LargestComponentAndCavities) {
+  BinaryVolume v;
   v.dims = {12, 12, 12};
   v.labels.assign(12 * 12 * 12, 0);
   for (int z = 2; z < 9; ++z)

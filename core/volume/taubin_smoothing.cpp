@@ -1,9 +1,9 @@
-#include "core/synth/taubin_smoothing.hpp"
+#include "core/volume/taubin_smoothing.hpp"
 
 #include <algorithm>
 #include <vector>
 
-namespace wish::synth {
+namespace wish::volume {
 
 void taubin_smooth(Mesh& mesh, int iterations, double lambda, double mu) {
   const Eigen::Index n = mesh.vertex_count();
@@ -38,4 +38,4 @@ void taubin_smooth(Mesh& mesh, int iterations, double lambda, double mu) {
   }
 }
 
-}  // namespace wish::synth
+}  // namespace wish::volume

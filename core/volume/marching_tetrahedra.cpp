@@ -1,13 +1,13 @@
-#include "core/synth/marching_tetrahedra.hpp"
+#include "core/volume/marching_tetrahedra.hpp"
 
 #include <unordered_map>
 
 #include <Eigen/Geometry>
 #include <vector>
 
-namespace wish::synth {
+namespace wish::volume {
 
-Mesh marching_tetrahedra(const LabelVolume& v) {
+Mesh marching_tetrahedra(const BinaryVolume& v) {
   const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
   // The 6 Kuhn tetrahedra of a unit cube: 0 -> e_a -> e_a + e_b -> (1,1,1) for each axis permutation (a, b).
   // Corner bit k set means +1 along axis k.
@@ -16,7 +16,7 @@ Mesh marching_tetrahedra(const LabelVolume& v) {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3i> faces;
   auto grid_index = [&](int x, int y, int z) { return static_cast<std::uint64_t>(v.index(x, y, z)); };
-  auto position = [&](int x, int y, int z) { return Eigen::Vector3d(v.origin + v.spacing * Eigen::Vector3d(x, y, z)); };
+  auto position = [&](int x, int y, int z) { return Eigen::Vector3d(v.origin + v.spacing.cwiseProduct(Eigen::Vector3d(x, y, z))); };
   auto vertex_on = [&](const int* a, const int* b) {
     std::uint64_t ia = grid_index(a[0], a[1], a[2]), ib = grid_index(b[0], b[1], b[2]);
     if (ia > ib) std::swap(ia, ib);
@@ -77,4 +77,4 @@ Mesh marching_tetrahedra(const LabelVolume& v) {
   return mesh;
 }
 
-}  // namespace wish::synth
+}  // namespace wish::volume

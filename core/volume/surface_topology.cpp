@@ -1,4 +1,4 @@
-#include "core/synth/surface_topology.hpp"
+#include "core/volume/surface_topology.hpp"
 
 #include <algorithm>
 #include <map>
@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-namespace wish::synth {
+namespace wish::volume {
 
 std::string SurfaceTopology::describe() const {
   return "V=" + std::to_string(vertices) + " E=" + std::to_string(edges) + " F=" + std::to_string(faces) +
@@ -82,4 +82,4 @@ SurfaceTopology analyze_surface(const Mesh& mesh) {
   return t;
 }
 
-}  // namespace wish::synth
+}  // namespace wish::volume

@@ -4,8 +4,8 @@
 
 #include "core/mesh/mesh.hpp"
 
-namespace wish::synth {
+namespace wish::volume {
 
 void taubin_smooth(Mesh& mesh, int iterations, double lambda = 0.5, double mu = -0.53);
 
-}  // namespace wish::synth
+}  // namespace wish::volume

@@ -7,10 +7,10 @@
 // Faces are oriented outward (counter-clockwise seen from the background).
 
 #include "core/mesh/mesh.hpp"
-#include "core/synth/label_volume.hpp"
+#include "core/volume/binary_volume.hpp"
 
-namespace wish::synth {
+namespace wish::volume {
 
-Mesh marching_tetrahedra(const LabelVolume& volume);
+Mesh marching_tetrahedra(const BinaryVolume& volume);
 
-}  // namespace wish::synth
+}  // namespace wish::volume

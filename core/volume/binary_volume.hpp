@@ -1,6 +1,6 @@
 #pragma once
-// A binary label volume, as a segmentation produces (classification.md: demo meshes are made "the way
-// segmentation output is"), and the clean-up that makes its surface one closed genus-0-candidate sheet:
+// A binary volume (one object of a segmentation, or a voxelised demo shape; classification.md: demo meshes are made
+// "the way segmentation output is"), and the clean-up that makes its surface one closed genus-0-candidate sheet:
 // keep the largest foreground component and fill enclosed background cavities.
 // Connectivity is the 14-neighbourhood of the Kuhn (Freudenthal) triangulation used by marching_tetrahedra:
 // grid points are joined along the offsets {100, 010, 001, 110, 101, 011, 111} and their negatives. With the same
@@ -12,12 +12,12 @@
 
 #include <Eigen/Core>
 
-namespace wish::synth {
+namespace wish::volume {
 
-struct LabelVolume {
+struct BinaryVolume {
   std::array<int, 3> dims{0, 0, 0};      // nx, ny, nz
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // world position of voxel (0, 0, 0)
-  double spacing = 1;                    // isotropic voxel size
+  Eigen::Vector3d spacing = Eigen::Vector3d::Ones();  // voxel size along x, y, z (physical units)
   std::vector<std::uint8_t> labels;      // 1 inside, 0 outside; x fastest
 
   std::size_t index(int x, int y, int z) const {
@@ -30,10 +30,13 @@ struct LabelVolume {
 const std::array<std::array<int, 3>, 7>& kuhn_offsets();
 
 // Keeps only the largest 14-connected foreground component; returns the number of components found.
-int keep_largest_component(LabelVolume& volume);
+int keep_largest_component(BinaryVolume& volume);
 // Sets background components that do not touch the volume border to foreground; returns how many were filled.
-int fill_cavities(LabelVolume& volume);
+int fill_cavities(BinaryVolume& volume);
 // Clears the outermost layer so the surface is closed inside the grid.
-void clear_border(LabelVolume& volume);
+void clear_border(BinaryVolume& volume);
+// Morphological closing with the 6-neighbourhood cross, `radius` dilations then `radius` erosions (the border layer
+// must be background and `radius` + 1 layers free for the result to be exact). Returns the voxels added.
+std::int64_t morphological_close(BinaryVolume& volume, int radius);
 
-}  // namespace wish::synth
+}  // namespace wish::volume

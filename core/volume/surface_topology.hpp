@@ -9,7 +9,7 @@
 
 #include "core/mesh/mesh.hpp"
 
-namespace wish::synth {
+namespace wish::volume {
 
 struct SurfaceTopology {
   std::int64_t vertices = 0, edges = 0, faces = 0, components = 0;
@@ -27,4 +27,4 @@ struct SurfaceTopology {
 
 SurfaceTopology analyze_surface(const Mesh& mesh);
 
-}  // namespace wish::synth
+}  // namespace wish::volume

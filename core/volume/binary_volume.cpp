@@ -1,8 +1,8 @@
-#include "core/synth/label_volume.hpp"
+#include "core/volume/binary_volume.hpp"
 
 #include <algorithm>
 
-namespace wish::synth {
+namespace wish::volume {
 
 const std::array<std::array<int, 3>, 7>& kuhn_offsets() {
   static const std::array<std::array<int, 3>, 7> offsets = {
@@ -13,7 +13,7 @@ const std::array<std::array<int, 3>, 7>& kuhn_offsets() {
 namespace {
 
 // Component id per voxel of value `value` (-1 elsewhere); returns component sizes.
-std::vector<std::size_t> components(const LabelVolume& v, std::uint8_t value, std::vector<int>& id) {
+std::vector<std::size_t> components(const BinaryVolume& v, std::uint8_t value, std::vector<int>& id) {
   const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
   id.assign(v.labels.size(), -1);
   std::vector<std::size_t> sizes;
@@ -46,7 +46,7 @@ std::vector<std::size_t> components(const LabelVolume& v, std::uint8_t value, st
 
 }  // namespace
 
-int keep_largest_component(LabelVolume& v) {
+int keep_largest_component(BinaryVolume& v) {
   std::vector<int> id;
   const auto sizes = components(v, 1, id);
   if (sizes.size() <= 1) return static_cast<int>(sizes.size());
@@ -56,7 +56,7 @@ int keep_largest_component(LabelVolume& v) {
   return static_cast<int>(sizes.size());
 }
 
-int fill_cavities(LabelVolume& v) {
+int fill_cavities(BinaryVolume& v) {
   std::vector<int> id;
   const auto sizes = components(v, 0, id);
   std::vector<bool> touches(sizes.size(), false);
@@ -73,7 +73,7 @@ int fill_cavities(LabelVolume& v) {
   return filled;
 }
 
-void clear_border(LabelVolume& v) {
+void clear_border(BinaryVolume& v) {
   const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
   for (int z = 0; z < nz; ++z)
     for (int y = 0; y < ny; ++y)
@@ -81,4 +81,35 @@ void clear_border(LabelVolume& v) {
         if (x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1) v.labels[v.index(x, y, z)] = 0;
 }
 
-}  // namespace wish::synth
+namespace {
+
+// One dilation (value 1) or erosion (value 0) step with the 6-neighbourhood: a voxel takes `value` when it or one of
+// its 6 face neighbours has it.
+void cross_step(BinaryVolume& v, std::uint8_t value) {
+  const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
+  const std::vector<std::uint8_t> src = v.labels;
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::size_t i = v.index(x, y, z);
+        if (src[i] == value) continue;
+        const bool near = (x > 0 && src[i - 1] == value) || (x + 1 < nx && src[i + 1] == value) ||
+                          (y > 0 && src[i - nx] == value) || (y + 1 < ny && src[i + nx] == value) ||
+                          (z > 0 && src[i - static_cast<std::size_t>(nx) * ny] == value) ||
+                          (z + 1 < nz && src[i + static_cast<std::size_t>(nx) * ny] == value);
+        if (near) v.labels[i] = value;
+      }
+}
+
+}  // namespace
+
+std::int64_t morphological_close(BinaryVolume& v, int radius) {
+  std::int64_t before = 0, after = 0;
+  for (auto l : v.labels) before += l;
+  for (int r = 0; r < radius; ++r) cross_step(v, 1);
+  for (int r = 0; r < radius; ++r) cross_step(v, 0);
+  for (auto l : v.labels) after += l;
+  return after - before;
+}
+
+}  // namespace wish::volume

@@ -1,0 +1,74 @@
+#pragma once
+// The command-line options every subcommand that accepts label volumes shares (mesh-labels, describe, predict,
+// train): voxel size and unit, object rule and filters, surface settings and limits.
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "core/common/errors.hpp"
+#include "core/pipeline/volume_pipeline.hpp"
+
+namespace wish::cli {
+
+struct VolumeCliOptions {
+  std::vector<double> spacing;   // x, y, z
+  std::string unit;
+  std::string objects = "auto";
+  std::int64_t min_voxels = 0;
+  bool drop_truncated = false;
+  std::vector<std::uint32_t> label_ids;
+  std::int64_t target_vertices = 10'000;
+  int smoothing_iterations = 10;
+  bool close_handles = false;
+  std::int64_t max_voxels = 512ll * 512 * 512;
+  std::int64_t max_objects = 100'000;
+};
+
+inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
+  sub.add_option("--spacing", o.spacing, "Voxel size x,y,z (overrides the file's)")->delimiter(',')->expected(3);
+  sub.add_option("--unit", o.unit, "Unit of the voxel size (e.g. nm, um)");
+  sub.add_option("--objects", o.objects, "Objects: labels (each value), components (6-connected parts of a mask), auto")
+      ->check(CLI::IsMember({"auto", "labels", "components"}))->capture_default_str();
+  sub.add_option("--min-voxels", o.min_voxels, "Drop objects with fewer voxels")->capture_default_str();
+  sub.add_flag("--drop-truncated", o.drop_truncated, "Drop objects touching the volume border (else flagged truncated)");
+  sub.add_option("--label-ids", o.label_ids, "Only these label ids (comma-separated)")->delimiter(',');
+  sub.add_option("--target-vertices", o.target_vertices, "Decimate each surface to about this many vertices (0: keep all)")
+      ->capture_default_str();
+  sub.add_option("--smoothing", o.smoothing_iterations, "Taubin smoothing iterations")->capture_default_str();
+  sub.add_flag("--close-handles", o.close_handles, "Try a morphological closing to make non-genus-0 objects genus 0");
+  sub.add_option("--max-voxels", o.max_voxels, "Limit: voxels per volume")->capture_default_str();
+  sub.add_option("--max-objects", o.max_objects, "Limit: objects per volume")->capture_default_str();
+}
+
+inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
+  VolumeOptions v;
+  if (!o.spacing.empty()) v.read.spacing_override = Eigen::Vector3d(o.spacing[0], o.spacing[1], o.spacing[2]);
+  if (!o.unit.empty()) v.read.unit_override = o.unit;
+  v.read.limits.max_voxels = o.max_voxels;
+  v.objects.mode = o.objects == "labels" ? volume::ObjectMode::Labels
+                   : o.objects == "components" ? volume::ObjectMode::Components : volume::ObjectMode::Auto;
+  v.objects.min_voxels = o.min_voxels;
+  v.objects.drop_truncated = o.drop_truncated;
+  v.objects.label_ids = o.label_ids;
+  v.objects.max_objects = o.max_objects;
+  v.surface.target_vertices = o.target_vertices;
+  v.surface.smoothing_iterations = o.smoothing_iterations;
+  v.surface.close_handles = o.close_handles;
+  return v;
+}
+
+// "fib1-0-0-0.nii.gz" -> "fib1-0-0-0".
+inline std::string volume_stem(const std::string& path) {
+  std::string name = std::filesystem::path(path).filename().string();
+  for (const char* ext : {".nii.gz", ".NII.GZ", ".nii", ".NII", ".tiff", ".TIFF", ".tif", ".TIF"}) {
+    const std::string e = ext;
+    if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0) return name.substr(0, name.size() - e.size());
+  }
+  return name;
+}
+
+}  // namespace wish::cli

@@ -1,0 +1,67 @@
+#pragma once
+// Reading label volumes: NIfTI-1 (.nii, and .nii.gz through zlib) and TIFF stacks (multi-page, through libtiff).
+// As with meshes, readers work on bytes (uploads arrive as bytes), detect the format from the content, check every
+// limit *before* allocating, and report the first problem as a typed error:
+//   code "parse_error"          malformed header or data        details: format, field / byte_offset
+//   code "unsupported_datatype" a voxel type that is not a label details: format, datatype
+//   code "invalid_label"        negative, non-integer or non-finite value, or above 2^32 - 1  details: voxel, value
+//   code "limit_exceeded"       (LimitExceededError)            details: limit, value, allowed
+//   code "unsupported_format"   (category UnsupportedFormat)    neither NIfTI-1 nor TIFF
+// Supported voxel types: uint8, int8, int16, uint16, int32, uint32, float32, float64 (floats must hold integers:
+// label images are sometimes stored as floats). NIfTI's scl_slope / scl_inter are ignored (a label is a name, not a
+// measurement) and noted when they are not the identity.
+// Spacing: NIfTI pixdim[1..3] with xyzt_units; TIFF X/YResolution with ResolutionUnit, ImageJ's ImageDescription
+// (`unit=`, `spacing=` for z) or OME-XML's PhysicalSize{X,Y,Z}[Unit]. `spacing_override` / `unit_override` replace
+// what the file says (UroCell's NIfTI headers say 1 mm; the true voxel is 16 x 16 x 15 nm).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/volume/label_image.hpp"
+
+namespace wish {
+
+enum class VolumeFormat { Unknown, Nifti, Tiff };
+const char* to_string(VolumeFormat format);
+
+struct VolumeReadLimits {
+  std::uint64_t max_bytes = 1ull << 30;          // input size (compressed, as sent)
+  std::int64_t max_voxels = 512ll * 512 * 512;    // nx * ny * nz
+  std::int64_t max_pages = 65536;                 // TIFF directories
+};
+
+struct VolumeReadOptions {
+  VolumeReadLimits limits;
+  std::optional<Eigen::Vector3d> spacing_override;  // x, y, z voxel size; each > 0 and finite
+  std::optional<std::string> unit_override;
+};
+
+struct VolumeReadResult {
+  volume::LabelImage image;
+  VolumeFormat format = VolumeFormat::Unknown;
+  std::string datatype;             // voxel type in the file: "int16", "float64", ...
+  bool spacing_from_file = false;   // false: the file gave no spacing (1, 1, 1 assumed) or it was overridden
+  std::vector<std::string> notes;   // what was ignored or assumed, one sentence each
+};
+
+// NIfTI-1 (magic "n+1" at byte 344, either byte order, gzip-wrapped or not) or TIFF ("II*\0" / "MM\0*").
+VolumeFormat detect_volume_format(std::string_view bytes);
+// True when the bytes start like a volume (gzip magic or one of the above): lets a caller route uploads.
+bool looks_like_volume(std::string_view bytes);
+
+VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& options = {});
+VolumeReadResult read_volume_file(const std::filesystem::path& path, const VolumeReadOptions& options = {});
+// True for names ending .nii, .nii.gz, .tif, .tiff (case-insensitive).
+bool is_volume_file_name(const std::filesystem::path& path);
+
+// Writes a NIfTI-1 single file (little endian, uint8 / int16 / uint16 / int32 / uint32 / float32 / float64 by
+// `datatype` name), gzip-compressed when `gzip`. For tests, round trips and exporting cleaned label images.
+std::string write_nifti(const volume::LabelImage& image, std::string_view datatype = "uint32", bool gzip = false);
+
+}  // namespace wish

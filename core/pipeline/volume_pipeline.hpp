@@ -1,0 +1,42 @@
+#pragma once
+// Label volume -> one surface per object: read (core/io/volume_io.hpp) -> objects (core/volume/label_objects.hpp)
+// -> surface per object (core/volume/object_surface.hpp). Objects are handed to a callback one at a time, so a
+// volume with thousands of objects never holds all their meshes at once. Used by `wish mesh-labels`,
+// `wish describe/predict/train` on volumes and the service's volume uploads.
+
+#include <functional>
+#include <string_view>
+
+#include "core/io/volume_io.hpp"
+#include "core/volume/label_objects.hpp"
+#include "core/volume/object_surface.hpp"
+
+namespace wish {
+
+struct VolumeOptions {
+  VolumeReadOptions read;
+  volume::ObjectOptions objects;
+  volume::SurfaceOptions surface;
+};
+
+struct VolumeSummary {
+  VolumeFormat format = VolumeFormat::Unknown;
+  std::string datatype;
+  std::array<std::int64_t, 3> dims{0, 0, 0};
+  Eigen::Vector3d spacing = Eigen::Vector3d::Ones();
+  std::string unit;
+  std::vector<std::string> notes;
+  volume::ObjectMode mode = volume::ObjectMode::Labels;
+  std::int64_t found = 0, kept = 0, dropped_not_selected = 0, dropped_small = 0, dropped_truncated = 0;
+  double read_seconds = 0, objects_seconds = 0;
+};
+
+// Called once per kept object, in id order, with its index among the kept ones. The surface may be moved from.
+using ObjectCallback = std::function<void(std::size_t index, const volume::VolumeObject& object, volume::ObjectSurface& surface)>;
+// Called with the summary once the objects are known, before the first object callback.
+using SummaryCallback = std::function<void(const VolumeSummary& summary)>;
+
+VolumeSummary for_each_object_surface(std::string_view bytes, const VolumeOptions& options,
+                                      const ObjectCallback& on_object, const SummaryCallback& on_summary = {});
+
+}  // namespace wish
