@@ -16,6 +16,8 @@ test_extra=(
   clang libclang-rt-14-dev
   python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
   assimp-testmodels nginx-light wrk yamllint python3-yaml
+  docker.io debootstrap              # scripts/test-docker.sh: the image built and run, its base made from Debian
+  python3-venv python3-setuptools    # tests/deploy/test_pip_install.py: the README's install line
 )
 
 want=("${runtime_build[@]}")
