@@ -18,6 +18,7 @@ test_extra=(
   assimp-testmodels nginx-light wrk yamllint python3-yaml
   docker.io debootstrap              # scripts/test-docker.sh: the image built and run, its base made from Debian
   python3-venv python3-setuptools    # tests/deploy/test_pip_install.py: the README's install line
+  slurm-wlm munge                    # scripts/test-slurm.sh: the Slurm batch runner on a single-node Slurm
 )
 
 want=("${runtime_build[@]}")

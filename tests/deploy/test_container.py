@@ -11,6 +11,7 @@ Run by scripts/test-docker.sh (engine + image); skipped without them.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -71,10 +72,11 @@ class DefaultContainerTest(unittest.TestCase):
         self.assertEqual(r.label, max(r.probabilities, key=r.probabilities.get))
 
     def test_healthcheck_reports_healthy(self) -> None:
-        state = lambda: docker("inspect", "-f", "{{.State.Health.Status}}", self.name).stdout.strip()  # noqa: E731
-        wait_for(lambda: state() == "healthy", "Docker's health status", timeout=60)
-        last = docker("inspect", "-f", "{{(index .State.Health.Log 0).ExitCode}}", self.name).stdout.strip()
-        self.assertEqual(last, "0")
+        def health() -> dict:
+            return json.loads(docker("inspect", "-f", "{{json .State.Health}}", self.name).stdout)
+        wait_for(lambda: health()["Status"] == "healthy", "Docker's health status", timeout=60)
+        last = health()["Log"][-1]
+        self.assertEqual(last["ExitCode"], 0, last)
 
     def test_runs_as_non_root_on_a_read_only_root(self) -> None:
         self.assertEqual(docker("inspect", "-f", "{{.HostConfig.ReadonlyRootfs}}", self.name).stdout.strip(), "true")
@@ -83,8 +85,10 @@ class DefaultContainerTest(unittest.TestCase):
         fields = dict(line.split(":", 1) for line in status.splitlines() if ":" in line)
         self.assertEqual(fields["Name"].strip(), "wish")
         self.assertEqual(fields["Uid"].split()[:2], [WISH_UID, WISH_UID])
-        for target in ("/usr/local/bin/wish", "/opt/wish/models/default.json", "/etc/passwd"):
-            r = docker("exec", self.name, "sh", "-c", f"echo x >> {target}", check=False)
+        self.assertEqual(docker("exec", self.name, "id", "-u").stdout.strip(), WISH_UID)  # the image's USER
+        for target in ("/usr/local/bin/wish", "/opt/wish/models/default.json", "/etc/passwd", "/new-file"):
+            # Not even root may write: the file system itself refuses (not merely the file's permissions).
+            r = docker("exec", "--user", "0", self.name, "sh", "-c", f"echo x >> {target}", check=False)
             self.assertNotEqual(r.returncode, 0, target)
             self.assertIn("Read-only file system", r.stderr, target)
         # /tmp is the one writable place (a tmpfs, as in the Kubernetes manifest).

@@ -87,7 +87,7 @@ class SlurmRunnerTest(unittest.TestCase):
         first_seconds = time.monotonic() - t0
         self.assertNotEqual(first.returncode, 0, first.stdout)
         self.assertIn(f"shard(s) failed [{self.broken_shard}]", first.stdout)
-        self.assertIn(f"array job", first.stdout)
+        self.assertIn("array job", first.stdout)
         self.assertFalse((self.workdir / "merged.csv").exists())
         self.assertEqual(self.attempts(), [1] * N_SHARDS)
         status = json.loads(subprocess.run([sys.executable, str(RUNNER), "status", str(self.workdir)],
