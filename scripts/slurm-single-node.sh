@@ -27,7 +27,7 @@ slurm_up() {
   for tool in munged mungekey slurmctld slurmd sbatch sinfo; do
     command -v "$tool" >/dev/null || { echo "slurm-single-node: FAILED: $tool not installed (slurm-wlm, munge)" >&2; return 1; }
   done
-  node=$(hostname -s); cpus=$(nproc)
+  node=$(hostname -s); cpus=$(getconf _NPROCESSORS_ONLN)   # not nproc: it follows OMP_NUM_THREADS
   mkdir -p "$d"/{munge,state,spool,log}
   chmod 700 "$d/munge"
   mungekey --create --keyfile="$d/munge/munge.key" 2>/dev/null || dd if=/dev/urandom of="$d/munge/munge.key" bs=1024 count=1 status=none
