@@ -27,6 +27,12 @@ from wish_client import WishClient
 MESHES = SOURCE / "data" / "meshes"
 DEFAULT_MODEL_NAME = "wish-default-synthetic"   # data/models/default.json, baked into the image
 WISH_UID = "10001"                               # the image's `wish` user (docker/Dockerfile)
+DRAIN_PARTS = 48                                 # meshes in the request that is in flight at SIGTERM
+
+
+def model_name(label: str | None) -> str:
+    """The model's name from the client's ``name@version`` label."""
+    return (label or "").split("@", 1)[0]
 
 
 def train_model(into: Path, name: str) -> Path:
@@ -66,7 +72,7 @@ class DefaultContainerTest(unittest.TestCase):
 
     def test_classifies_the_bundled_mesh(self) -> None:
         r = WishClient(self.url, timeout=120).classify(MESHES / "sphere.off")
-        self.assertEqual(r.model, DEFAULT_MODEL_NAME)
+        self.assertEqual(model_name(r.model), DEFAULT_MODEL_NAME)
         self.assertIn(r.label, r.probabilities)
         self.assertAlmostEqual(sum(r.probabilities.values()), 1.0, places=6)
         self.assertEqual(r.label, max(r.probabilities, key=r.probabilities.get))
@@ -86,7 +92,7 @@ class DefaultContainerTest(unittest.TestCase):
         self.assertEqual(fields["Name"].strip(), "wish")
         self.assertEqual(fields["Uid"].split()[:2], [WISH_UID, WISH_UID])
         self.assertEqual(docker("exec", self.name, "id", "-u").stdout.strip(), WISH_UID)  # the image's USER
-        for target in ("/usr/local/bin/wish", "/opt/wish/models/default.json", "/etc/passwd", "/new-file"):
+        for target in ("/usr/local/bin/new-file", "/opt/wish/models/default.json", "/etc/passwd", "/new-file"):
             # Not even root may write: the file system itself refuses (not merely the file's permissions).
             r = docker("exec", "--user", "0", self.name, "sh", "-c", f"echo x >> {target}", check=False)
             self.assertNotEqual(r.returncode, 0, target)
@@ -113,13 +119,13 @@ class ModelsVolumeTest(unittest.TestCase):
         wait_for(lambda: http_ok(url + "/readyz"), f"/readyz ({logs(name)})")
         client = WishClient(url, timeout=120)
         self.assertEqual([m["name"] for m in client.models()], ["lab-a"])  # the baked-in default is not loaded
-        self.assertEqual(client.classify(MESHES / "sphere.off").model, "lab-a")
+        self.assertEqual(model_name(client.classify(MESHES / "sphere.off").model), "lab-a")
 
         train_model(self.models, "lab-b")
         docker("kill", "-s", "HUP", name)
         wait_for(lambda: sorted(m["name"] for m in client.models()) == ["lab-a", "lab-b"], "lab-b after SIGHUP")
         r = client.classify(MESHES / "sphere.off", model="lab-b")
-        self.assertEqual(r.model, "lab-b")
+        self.assertEqual(model_name(r.model), "lab-b")
         self.assertIn(r.label, r.probabilities)
         self.assertEqual(metric(port, "wish_model_reloads_total", 'result="ok"'), 1)  # the SIGHUP (not the start)
 
@@ -129,28 +135,36 @@ class SigtermDrainTest(unittest.TestCase):
     def test_sigterm_answers_the_request_in_flight_and_exits_0(self) -> None:
         port = free_ports(1)[0]
         name = container_name()
-        run_service(name, port, env={"WISH_WORKERS": "1", "WISH_SHUTDOWN_GRACE": "60"})
+        run_service(name, port, env={"WISH_WORKERS": "1", "WISH_SHUTDOWN_GRACE": "60",
+                                     "WISH_MAX_PARTS": str(DRAIN_PARTS),
+                                     "WISH_QUEUE_SIZE": str(DRAIN_PARTS)})
         self.addCleanup(remove, name)
         url = f"http://127.0.0.1:{port}"
         wait_for(lambda: http_ok(url + "/readyz"), f"/readyz ({logs(name)})")
-        # The largest bundled mesh, at a high Lmax: long enough to still be computing when the signal arrives.
-        mesh = MESHES / "celegans_cell.obj"
+        # One multipart request of many copies of the largest bundled mesh on one worker: seconds of compute, so it
+        # is still in flight when the signal arrives (the server's log below confirms it).
+        meshes = [MESHES / "celegans_cell.obj"] * DRAIN_PARTS
         outcome: dict[str, object] = {}
 
         def request() -> None:
             try:
-                outcome["result"] = WishClient(url, timeout=120).classify(mesh)
+                outcome["result"] = WishClient(url, timeout=120).classify(meshes)
             except Exception as e:  # noqa: BLE001 - the assertion below reports it
                 outcome["error"] = e
 
         t = threading.Thread(target=request)
         t.start()
-        wait_for(lambda: metric(port, "wish_workers_busy") >= 1, "the request reaching a worker", poll=0.02)
+        wait_for(lambda: metric(port, "wish_workers_busy") >= 1 or not t.is_alive(), "the request reaching a worker",
+                 poll=0.02)
+        self.assertTrue(t.is_alive(), f"the request ended before the signal: {outcome}")
         docker("kill", "-s", "TERM", name)
         t.join(timeout=120)
         self.assertFalse(t.is_alive())
         self.assertNotIn("error", outcome, outcome.get("error"))
-        self.assertEqual(outcome["result"].model, DEFAULT_MODEL_NAME)
+        results = outcome["result"]
+        self.assertEqual(len(results), DRAIN_PARTS)
+        for r in results:   # every part answered, none cancelled by the shutdown
+            self.assertEqual(model_name(getattr(r, "model", None)), DEFAULT_MODEL_NAME, r)
         exit_code = docker("wait", name, timeout=90).stdout.strip()
         self.assertEqual(exit_code, "0", logs(name))
         # The server's own account: the signal came while the request was in flight (server/run_server.cpp).
