@@ -42,7 +42,7 @@ def nginx_directive(name: str) -> str:
 def serve_default(option: str) -> str:
     """The default `wish serve --help` shows for an option."""
     text = subprocess.run([WISH_BIN, "serve", "--help"], capture_output=True, text=True, timeout=30).stdout
-    m = re.search(rf"{re.escape(option)}\s+\S+\s+\[([^\]]+)\]", text)
+    m = re.search(rf"{re.escape(option)}\s+[A-Z]+(?:=|\s+\[)([^\s\]]+)", text)   # `UINT=64` or `UINT [64]`
     assert m, f"no default of {option} in `wish serve --help`"
     return m.group(1)
 
