@@ -19,6 +19,9 @@ test_extra=(
   python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
   assimp-testmodels nginx-light wrk yamllint python3-yaml
   chromium
+  docker.io debootstrap              # scripts/test-docker.sh: the image built and run, its base made from Debian
+  python3-venv python3-setuptools    # tests/deploy/test_pip_install.py: the README's install line
+  slurm-wlm munge                    # scripts/test-slurm.sh: the Slurm batch runner on a single-node Slurm
 )
 
 want=("${runtime_build[@]}")

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the Release build with all tests (C++ and Python),
 # the ASan+UBSan build of the C++ tests (the slow data sweeps excluded), the libFuzzer targets for a bounded
-# time each, and the linters of the deployment files. Exit status non-zero on any failure.
+# time each, the linters of the deployment files, the Slurm runner on a single-node Slurm (scripts/test-slurm.sh)
+# and the container image built and run (scripts/test-docker.sh).
+# Exit status non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -46,3 +48,9 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 
 step "release tests"
 ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 1200
+
+step "Slurm batch runner on a single-node Slurm (scripts/test-slurm.sh)"
+WISH_BIN="$root/build/release/cli/wish" bash scripts/test-slurm.sh
+
+step "container image: build and end-to-end tests (scripts/test-docker.sh)"
+bash scripts/test-docker.sh

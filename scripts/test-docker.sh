@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The container image, built and run for real (part of scripts/test.sh, so CI runs it):
+#   1. a Docker engine: the running one, or Debian's dockerd started here (and stopped again, by its pid);
+#   2. the base image made from Debian's repository when missing (no registry is needed: scripts/docker-engine.sh);
+#   3. docker/Dockerfile built (--network host, the legacy builder: nothing is fetched from a registry), its build time
+#      and image size printed;
+#   4. the end-to-end tests against running containers, all on 127.0.0.1 with --network host:
+#      tests/deploy/test_container.py (classify, healthcheck, non-root on a read-only root, models volume + reload,
+#      SIGTERM drain) and tests/deploy/test_scale_out_containers.py (N containers behind nginx, one killed and one
+#      restarted under load from the batch client).
+# When no engine can start, it says why and fails. Containers and images it made carry the names wish-test-*.
+#   WISH_DOCKER_TESTS="test_container"   run only these test modules
+#   WISH_IMAGE=wish:test                 the tag built and tested
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+image=${WISH_IMAGE:-wish:test}
+# shellcheck source=scripts/docker-engine.sh
+source scripts/docker-engine.sh
+
+trap 'docker_engine_down' EXIT
+if ! docker_engine_up; then
+  echo "test-docker: FAILED: no container engine could be started on this machine" >&2
+  exit 1
+fi
+docker_base_image
+
+t0=$SECONDS
+echo "test-docker: building $image from docker/Dockerfile (base $WISH_BASE_IMAGE)"
+DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMAGE" --build-arg JOBS=2 \
+  -f docker/Dockerfile -t "$image" . >"${TMPDIR:-/tmp}/wish-docker-build.log" 2>&1 || {
+  echo "test-docker: FAILED: docker build; the end of the log:" >&2
+  tail -n 40 "${TMPDIR:-/tmp}/wish-docker-build.log" >&2
+  exit 1
+}
+build_seconds=$((SECONDS - t0))
+size=$(docker image inspect -f '{{.Size}}' "$image")
+echo "test-docker: image $image built in ${build_seconds} s; size $(awk -v s="$size" 'BEGIN {printf "%.1f MB", s / 1e6}')" \
+     "(${size} bytes; base $(docker image inspect -f '{{.Size}}' "$WISH_BASE_IMAGE" | awk '{printf "%.1f MB", $1 / 1e6}'))"
+nginx_image=${WISH_NGINX_IMAGE:-wish-nginx:test}
+DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMAGE" -f docker/nginx/Dockerfile \
+  -t "$nginx_image" docker/nginx >"${TMPDIR:-/tmp}/wish-docker-build-nginx.log" 2>&1 || {
+  echo "test-docker: FAILED: docker build of docker/nginx; the end of the log:" >&2
+  tail -n 20 "${TMPDIR:-/tmp}/wish-docker-build-nginx.log" >&2
+  exit 1
+}
+echo "test-docker: image $nginx_image built; size $(docker image inspect -f '{{.Size}}' "$nginx_image" |
+  awk '{printf "%.1f MB", $1 / 1e6}')"
+
+modules=${WISH_DOCKER_TESTS:-"test_container test_scale_out_containers"}
+cd tests/deploy
+# shellcheck disable=SC2086
+WISH_IMAGE="$image" WISH_NGINX_IMAGE="$nginx_image" WISH_SOURCE_DIR="$root" PYTHONPATH="$root/clients/python${PYTHONPATH:+:$PYTHONPATH}" \
+  /usr/bin/python3 -m unittest -v $modules
