@@ -57,9 +57,9 @@ int main(int argc, char** argv) {
   using namespace wish;
   std::vector<TrainingSample> samples;
   wish::TrainOptions opts;
-  opts.spec.l_max = lmax;
-  opts.spec.log_transform = true;
-  opts.descriptor.sh.lmax = lmax;
+  opts.recipe.features.l_max = lmax;
+  opts.recipe.features.log_transform = true;
+  opts.recipe.sh.lmax = lmax;
   opts.grid.jobs = jobs;
   opts.nested_repeats = nested ? 2 : 0;
   if (csv.empty()) {

@@ -64,7 +64,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     };
     if (!o->descriptors.empty()) {
       const DescriptorTable table = read_unlabelled_descriptor_table(read_file_bytes(o->descriptors));
-      const int model_lmax = model.descriptor_settings().sh.lmax;
+      const int model_lmax = model.recipe().sh.lmax;
       if (table.lmax != model_lmax)
         throw InvalidInputError("descriptor_mismatch",
                                 "the descriptor CSV has xi_0..xi_" + std::to_string(table.lmax) + " but model '" +
@@ -93,6 +93,10 @@ CommandRunner setup_predict(CLI::App& sub) {
         const PipelineResult res = classify_mesh_bytes(read_file_bytes(file), model, po);
         record(r, res.prediction.value());
         r["seconds"] = res.timings.total;
+        if (res.recipe) {  // the map's method against the model's recipe (off-recipe maps accepted by its policy)
+          r["recipe_match"] = res.recipe->match;
+          r["method_used"] = to_string(res.recipe->method_used);
+        }
       } catch (const WishError& e) {
         fail(r, file, e);
       }
@@ -123,7 +127,11 @@ CommandRunner setup_predict(CLI::App& sub) {
                   << std::setprecision(3) << r["margin"].get<double>() << ";";
         for (const auto& c : classes) std::cout << " " << c << " " << std::fixed << std::setprecision(3) << r["probabilities"][c].get<double>();
         std::cout.unsetf(std::ios::fixed);
-        std::cout << ")\n";
+        std::cout << ")";
+        if (r.contains("recipe_match") && !r["recipe_match"].get<bool>())
+          std::cout << "  [off-recipe: map by " << r["method_used"].get<std::string>() << ", model's recipe "
+                    << to_string(model.recipe().map.method) << "]";
+        std::cout << "\n";
       }
     }
     return ok ? kExitOk : kExitInvalid;

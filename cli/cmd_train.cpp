@@ -4,8 +4,11 @@
 //   * a CSV manifest "path,label" (relative paths against the manifest's directory), or
 //   * a descriptor CSV from `wish describe --csv` / `wish train --save-descriptors` (has xi_0.. columns), with a
 //     label column or labels joined from --labels MANIFEST — so a grid search need not redo the flows.
-// Meshes are described in parallel (progress on stderr); a mesh that fails is reported and skipped, never
-// silently dropped. When the global descriptors are available, accuracies with xi alone, global alone and
+// The command line makes one DescriptorRecipe (map method and options, SH fit, feature pipeline, off-recipe
+// policy) that describes every mesh and is stored in the model. Meshes are described in parallel (progress on
+// stderr); a mesh that fails, or whose map came from another method than the recipe's while the policy refuses
+// that, is lost: losses are counted per class and error code in the report and on stdout, and training stops
+// when a class loses more than --max-class-loss of its meshes (unless --allow-losses). When the global descriptors are available, accuracies with xi alone, global alone and
 // combined are printed side by side.
 #include <algorithm>
 #include <atomic>
@@ -31,6 +34,7 @@
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/training.hpp"
+#include "core/classify/training_losses.hpp"
 #include "core/classify/training_report.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
@@ -50,13 +54,13 @@ struct TrainCliOptions {
   std::string method = "willmore", weights = "area", solver = "direct";
   double regularization = 1e-5;
   double test_fraction = 0.2;
+  std::string off_recipe = "refuse";
+  bool no_fallback = false, allow_losses = false;
+  double max_class_loss = 0.1;
   int grid_splits = 10, nested_repeats = 2, nested_folds = 5;
   std::vector<int> c_range{-2, 10}, gamma_range{-9, 3};
 };
 
-struct Failure {
-  std::string file, code, message;
-};
 
 bool is_mesh_file(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -80,11 +84,14 @@ std::vector<std::pair<std::string, std::string>> list_class_directories(const fs
   return items;
 }
 
-// Describes every mesh in parallel; failures are collected, not dropped.
+// Describes every mesh in parallel with the recipe; failures and refused off-recipe maps are collected as losses.
 std::vector<TrainingSample> describe_all(const std::vector<std::pair<std::string, std::string>>& items,
-                                         const PipelineOptions& po, int jobs, bool quiet, std::vector<Failure>& failures) {
+                                         const DescriptorRecipe& recipe, int jobs, bool quiet,
+                                         std::vector<MeshLoss>& failures) {
+  PipelineOptions po = options_for_recipe(recipe);
+  po.compute_global_features = true;  // for the feature family comparison
   std::vector<std::optional<TrainingSample>> results(items.size());
-  std::vector<std::optional<Failure>> errors(items.size());
+  std::vector<std::optional<MeshLoss>> errors(items.size());
   std::atomic<int> done{0};
   std::mutex io;
   const auto start = std::chrono::steady_clock::now();
@@ -100,17 +107,21 @@ std::vector<TrainingSample> describe_all(const std::vector<std::pair<std::string
       const auto dot = file.find_last_of('.');
       if (dot != std::string::npos) o.read.hint = format_from_name(file.substr(dot));
       const PipelineResult r = describe_mesh_bytes(read_file_bytes(file), o);
+      const RecipeConformance conformance = check_recipe(recipe, r.map);
+      enforce_recipe_policy(recipe, conformance, "being trained");
       TrainingSample s;
+      s.off_recipe = !conformance.match;
       s.id = file;
       s.label = label;
       s.features.invariants = r.sh.invariants;
       s.features.global = r.features.global;
-      results[static_cast<std::size_t>(i)] = std::move(s);
       std::ostringstream st;
       st << "ok (" << std::fixed << std::setprecision(2) << r.timings.total << " s, " << to_string(r.map.method_used) << ")";
+      if (s.off_recipe) st << " OFF-RECIPE, kept (accept_flagged)";
       status = st.str();
+      results[static_cast<std::size_t>(i)] = std::move(s);
     } catch (const WishError& e) {
-      errors[static_cast<std::size_t>(i)] = Failure{file, e.code(), e.what()};
+      errors[static_cast<std::size_t>(i)] = MeshLoss{file, label, e.code(), e.what()};
       status = "FAILED [" + e.code() + "] " + e.what();
     }
     const int n = ++done;
@@ -155,7 +166,17 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--heatmap", o->heatmap, "SVG heat map of the grid accuracy to write");
   sub.add_option("--save-descriptors", o->save_descriptors, "Write the labelled descriptors (CSV) for re-training");
   sub.add_option("--name", o->name, "Model name")->capture_default_str();
-  sub.add_option("--method", o->method, "Spherical map method: willmore | cmcf")->capture_default_str();
+  sub.add_option("--method", o->method, "Spherical map method of the recipe: willmore | cmcf | linear")
+      ->check(CLI::IsMember({"willmore", "cmcf", "linear"}))->capture_default_str();
+  sub.add_flag("--no-fallback", o->no_fallback, "Do not try other attempts/methods when the recipe's map fails");
+  sub.add_option("--off-recipe", o->off_recipe,
+                 "Policy for maps made by another method than --method (a fallback): refuse (the mesh is lost in "
+                 "training, a classify request gets 422 off_recipe) | accept_flagged (kept, flagged recipe_match false)")
+      ->check(CLI::IsMember({"refuse", "accept_flagged"}))->capture_default_str();
+  sub.add_option("--max-class-loss", o->max_class_loss,
+                 "Stop when any class loses more than this share of its meshes (refused or failed)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  sub.add_flag("--allow-losses", o->allow_losses, "Report lost meshes but train whatever a class lost");
   sub.add_option("--weights", o->weights, "SH fit weights: area | uniform")->capture_default_str();
   sub.add_option("--solver", o->solver, "SH fit solver: direct | banded")->capture_default_str();
   sub.add_option("--regularization", o->regularization, "SH fit regularisation nu")->capture_default_str();
@@ -169,16 +190,23 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");
   sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
   return [o]() {
-    PipelineOptions po;
-    po.map.method = map_method_from_name(o->method);
-    po.sh.lmax = o->lmax;
-    po.sh.weighting = fit_weighting_from_name(o->weights);
-    po.sh.solver = fit_solver_from_name(o->solver);
-    po.sh.regularization = o->regularization;
-    po.compute_global_features = true;
+    DescriptorRecipe recipe;
+    recipe.map.method = map_method_from_name(o->method);
+    recipe.map.fallback = !o->no_fallback;
+    recipe.sh.lmax = o->lmax;
+    recipe.sh.weighting = fit_weighting_from_name(o->weights);
+    recipe.sh.solver = fit_solver_from_name(o->solver);
+    recipe.sh.regularization = o->regularization;
+    recipe.features.family = feature_family_from_name(o->features);
+    recipe.features.l_min = 1;
+    recipe.features.l_max = o->lmax;
+    recipe.features.scale = scale_normalization_from_name(o->scale);
+    recipe.features.log_transform = o->log;
+    recipe.features.global_scale_free = o->global_scale_free;
+    recipe.off_recipe = off_recipe_policy_from_name(o->off_recipe);
 
     std::vector<TrainingSample> samples;
-    std::vector<Failure> failures;
+    std::vector<MeshLoss> failures;
     std::vector<std::string> unlabelled;
     bool have_global = true;
     const fs::path input = o->input;
@@ -186,7 +214,7 @@ CommandRunner setup_train(CLI::App& sub) {
       const auto items = list_class_directories(input);
       if (items.empty()) throw InvalidInputError("training_data", "no meshes in class sub-directories of " + o->input);
       std::cerr << "describing " << items.size() << " meshes (Lmax " << o->lmax << ", " << o->method << ")\n";
-      samples = describe_all(items, po, o->jobs, o->quiet, failures);
+      samples = describe_all(items, recipe, o->jobs, o->quiet, failures);
     } else {
       const std::string text = read_file_bytes(o->input);
       const auto rows = parse_csv(text.substr(0, text.find('\n') + 1));
@@ -202,7 +230,7 @@ CommandRunner setup_train(CLI::App& sub) {
         samples = std::move(table.samples);
         unlabelled = table.unlabelled;
         have_global = table.has_global;
-        po.sh.lmax = table.lmax;  // the descriptors were fitted up to this Lmax: the model must say so
+        recipe.sh.lmax = table.lmax;  // the descriptors were fitted up to this Lmax: the model must say so
         if (o->lmax > table.lmax)
           throw InvalidInputError("training_data", "--lmax " + std::to_string(o->lmax) + " exceeds the CSV's xi_" +
                                                        std::to_string(table.lmax));
@@ -213,13 +241,21 @@ CommandRunner setup_train(CLI::App& sub) {
       } else {
         const auto items = read_manifest(text, input.parent_path());
         std::cerr << "describing " << items.size() << " meshes from the manifest (Lmax " << o->lmax << ")\n";
-        samples = describe_all(items, po, o->jobs, o->quiet, failures);
+        samples = describe_all(items, recipe, o->jobs, o->quiet, failures);
       }
     }
-    for (const auto& f : failures) std::cerr << "wish train: skipped " << f.file << ": [" << f.code << "] " << f.message << "\n";
-    if (!failures.empty())
-      std::cerr << "wish train: " << failures.size() << " of " << samples.size() + failures.size()
-                << " meshes failed and are NOT in the training set\n";
+    for (const auto& f : failures) std::cerr << "wish train: lost " << f.id << ": [" << f.code << "] " << f.message << "\n";
+    if (!failures.empty()) {
+      std::vector<std::string> kept, flagged;
+      for (const auto& smp : samples) {
+        kept.push_back(smp.label);
+        if (smp.off_recipe) flagged.push_back(smp.label);
+      }
+      // Before training can stop on them; the stdout report repeats the table (training_report_table).
+      std::cerr << failures.size() << " of " << samples.size() + failures.size()
+                << " meshes are NOT in the training set (refused or failed):\n"
+                << loss_table(summarize_losses(kept, failures, flagged)) << "\n";
+    }
     if (!o->save_descriptors.empty()) {
       std::ofstream(o->save_descriptors) << write_descriptor_table(samples);
       std::cerr << "wrote descriptors to " << o->save_descriptors << "\n";
@@ -227,14 +263,10 @@ CommandRunner setup_train(CLI::App& sub) {
 
     TrainOptions t;
     t.name = o->name;
-    t.spec.family = feature_family_from_name(o->features);
-    t.spec.l_min = 1;
-    t.spec.l_max = o->lmax;
-    t.spec.scale = scale_normalization_from_name(o->scale);
-    t.spec.log_transform = o->log;
-    t.spec.global_scale_free = o->global_scale_free;
-    t.descriptor.map = po.map;
-    t.descriptor.sh = po.sh;
+    t.recipe = recipe;
+    t.losses = failures;
+    t.loss_policy.max_class_loss = o->max_class_loss;
+    t.loss_policy.allow_losses = o->allow_losses;
     t.grid.Cs = decade_grid(o->c_range[0], o->c_range[1]);
     t.grid.gammas = decade_grid(o->gamma_range[0], o->gamma_range[1]);
     t.grid.jobs = o->jobs;
@@ -245,9 +277,9 @@ CommandRunner setup_train(CLI::App& sub) {
     t.refit_on_all = o->refit_all;
     t.seed = o->seed;
     if (!o->quiet) t.progress = [](const std::string& line) { std::cerr << "  " << line << "\n"; };
-    const bool needs_global = t.spec.family != FeatureFamily::Invariants || t.spec.scale == ScaleNormalization::ByArea;
+    const bool needs_global = t.recipe.needs_global_features();
     if (needs_global && !have_global)
-      throw InvalidInputError("training_data", "--features " + o->features + (t.spec.scale == ScaleNormalization::ByArea ? " / --scale area" : "") +
+      throw InvalidInputError("training_data", "--features " + o->features + (t.recipe.features.scale == ScaleNormalization::ByArea ? " / --scale area" : "") +
                                                    " needs the global descriptors (g_* columns); train from meshes or a "
                                                    "CSV written by --save-descriptors");
 
@@ -261,7 +293,7 @@ CommandRunner setup_train(CLI::App& sub) {
       for (const char* family : {"invariants", "global", "combined"}) {
         if (family == o->features) continue;
         TrainOptions u = t;
-        u.spec.family = feature_family_from_name(family);
+        u.recipe.features.family = feature_family_from_name(family);
         u.progress = nullptr;
         std::cerr << "comparison: training with features " << family << "\n";
         comparison.push_back(summary_row(family, train_classifier(samples, u).report));
@@ -296,7 +328,8 @@ CommandRunner setup_train(CLI::App& sub) {
       rep["model_sha256"] = result.model.payload_sha256();
       rep["comparison"] = comparison;
       nlohmann::json skipped = nlohmann::json::array();
-      for (const auto& f : failures) skipped.push_back({{"file", f.file}, {"code", f.code}, {"message", f.message}});
+      for (const auto& f : failures)
+        skipped.push_back({{"file", f.id}, {"label", f.label}, {"code", f.code}, {"message", f.message}});
       for (const auto& f : unlabelled) skipped.push_back({{"file", f}, {"code", "no_label"}, {"message", "no label"}});
       rep["skipped"] = skipped;
       std::ofstream(o->report) << rep.dump(2) << "\n";

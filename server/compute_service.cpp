@@ -24,7 +24,7 @@ nlohmann::json settings_used(const char* source, int lmax, MapMethod method, int
 }  // namespace
 
 void check_descriptor_settings(const ComputeParams& params, const LoadedModel& loaded) {
-  const auto& ds = loaded.model.descriptor_settings();
+  const auto& ds = loaded.model.recipe();
   const std::string& name = loaded.model.name();
   auto mismatch = [&](const std::string& parameter, const ErrorDetailValue& requested, const ErrorDetailValue& model,
                       const std::string& requested_text, const std::string& model_text) {
@@ -73,7 +73,7 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
     PipelineResult result;
     if (job.op == Operation::Classify) {
       const ClassifierModel& model = job.model->model;
-      const auto& ds = model.descriptor_settings();
+      const auto& ds = model.recipe();
       json_options.settings = settings_used("model", ds.sh.lmax, ds.map.method, model_steps(ds), ds.sh);
       json_options.model_name = model.name();
       json_options.model_version = model.version();

@@ -21,6 +21,6 @@ struct LoadedModel {
 };
 
 // Steps of the flow step cap of the model's map method (what a request's `steps` is compared with).
-int model_steps(const DescriptorSettings& settings);
+int model_steps(const DescriptorRecipe& recipe);
 
 }  // namespace wish::server

@@ -30,7 +30,7 @@ std::string now_iso8601() {
 }
 
 nlohmann::json build_info(const ClassifierModel& m, const std::filesystem::path& file) {
-  const auto& ds = m.descriptor_settings();
+  const auto& ds = m.recipe();
   const auto& fs = m.feature_spec();
   const auto& ts = m.training_summary();
   return {
@@ -48,7 +48,9 @@ nlohmann::json build_info(const ClassifierModel& m, const std::filesystem::path&
         {"solver", to_string(ds.sh.solver)},
         {"tau", ds.map.willmore.tau},
         {"filtered", ds.map.willmore.filtered},
-        {"fallback", ds.map.fallback}}},
+        {"fallback", ds.map.fallback},
+        {"off_recipe", to_string(ds.off_recipe)}}},
+      {"recipe", nlohmann::json::parse(descriptor_recipe_json_text(ds))},
       {"feature_spec",
        {{"family", to_string(fs.family)},
         {"l_min", fs.l_min},
@@ -71,8 +73,8 @@ nlohmann::json build_info(const ClassifierModel& m, const std::filesystem::path&
 
 }  // namespace
 
-int model_steps(const DescriptorSettings& settings) {
-  return settings.map.method == MapMethod::Cmcf ? settings.map.cmcf.max_steps : settings.map.willmore.max_steps;
+int model_steps(const DescriptorRecipe& recipe) {
+  return recipe.map.method == MapMethod::Cmcf ? recipe.map.cmcf.max_steps : recipe.map.willmore.max_steps;
 }
 
 const nlohmann::json& model_info(const LoadedModel& model) { return model.info; }

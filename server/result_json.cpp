@@ -23,7 +23,7 @@ nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions
   out["descriptor"]["settings"] = options.settings;
 
   if (result.prediction)
-    out["prediction"] = prediction_json(*result.prediction, options.model_name, options.model_version);
+    out["prediction"] = prediction_json(*result.prediction, options.model_name, options.model_version, result.recipe);
 
   if (options.reconstruction && result.reconstruction) {
     out["reconstruction"] = mesh_geometry_json(*result.reconstruction);

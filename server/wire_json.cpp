@@ -190,13 +190,20 @@ ShDescriptor descriptor_from_json(const nlohmann::json& json) {
   }
 }
 
-nlohmann::json prediction_json(const Prediction& p, const std::string& model_name, const std::string& model_version) {
+nlohmann::json prediction_json(const Prediction& p, const std::string& model_name, const std::string& model_version,
+                               const std::optional<RecipeConformance>& recipe) {
   nlohmann::json probs = nlohmann::json::array();
   for (const auto& [label, prob] : p.probabilities) probs.push_back({{"label", label}, {"probability", json_number(prob)}});
-  return {{"label", p.label},
-          {"probabilities", std::move(probs)},
-          {"margin", json_number(p.margin)},
-          {"model", {{"name", model_name}, {"version", model_version}}}};
+  nlohmann::json out{{"label", p.label},
+                     {"probabilities", std::move(probs)},
+                     {"margin", json_number(p.margin)},
+                     {"model", {{"name", model_name}, {"version", model_version}}}};
+  if (recipe) {
+    out["recipe_match"] = recipe->match;
+    out["method_used"] = to_string(recipe->method_used);
+    out["recipe_method"] = to_string(recipe->recipe_method);
+  }
+  return out;
 }
 
 nlohmann::json mesh_geometry_json(const Mesh& m) {

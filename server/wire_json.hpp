@@ -18,6 +18,7 @@
 //   "coefficients": {"x": [[re, im], ...], "y": [...], "z": [...]}    // (L+1)^2 pairs each, rows j (optional part)
 // }
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -49,9 +50,12 @@ nlohmann::json descriptor_json(const ShDescriptor& descriptor, const DescriptorJ
 // Invariants are recomputed from the coefficients. Throws InvalidInputError ("invalid_descriptor") naming the field.
 ShDescriptor descriptor_from_json(const nlohmann::json& json);
 
-// Prediction: {"label", "probabilities": [{"label", "probability"}], "margin", "model": {"name", "version"}}.
+// Prediction: {"label", "probabilities": [{"label", "probability"}], "margin", "model": {"name", "version"}},
+// plus, when the recipe check ran: "recipe_match" (false: the map came from another method than the model's,
+// accepted by its off_recipe policy), "method_used", "recipe_method".
 nlohmann::json prediction_json(const Prediction& prediction, const std::string& model_name,
-                               const std::string& model_version);
+                               const std::string& model_version,
+                               const std::optional<RecipeConformance>& recipe = std::nullopt);
 nlohmann::json mesh_geometry_json(const Mesh& mesh);  // {"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}
 // GeometryBlock, for viewers: flat arrays of the mesh that was mapped (after repairs; the order of its vertices
 // and faces is that of `prepared` in the mesh block), its sphere map and the per-face distortion of the map.

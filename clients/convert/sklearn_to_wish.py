@@ -44,7 +44,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from wish_model_json import dumps, seal  # noqa: E402
 
-FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 1
+FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 2
+RECIPE_VERSION = 1  # DescriptorRecipe::kVersion (core/classify/descriptor_recipe.hpp)
 
 #: The descriptor settings come from a model file written by `wish train` (by default the repository's bundled
 #: model), never from a copy of the C++ defaults that could drift: the model file lists every setting.
@@ -55,7 +56,13 @@ def default_descriptor() -> dict[str, Any]:
     """The descriptor block of the bundled default model (``wish train``'s defaults; Lmax is set from the CSV)."""
     if not BUNDLED_MODEL.is_file():
         raise ValueError(f"no bundled model at {BUNDLED_MODEL}: pass --descriptor-from MODEL.json")
-    return copy.deepcopy(read_model(BUNDLED_MODEL, check_seal=False)["payload"]["descriptor"])
+    return descriptor_of(read_model(BUNDLED_MODEL, check_seal=False))
+
+
+def descriptor_of(doc: dict[str, Any]) -> dict[str, Any]:
+    """The map and fit settings (``{"map", "sh", "off_recipe"}``) of a model document read by :func:`read_model`."""
+    recipe = doc["payload"]["recipe"]
+    return copy.deepcopy({"map": recipe["map"], "sh": recipe["sh"], "off_recipe": recipe["off_recipe"]})
 
 
 _DBL_MIN = float(np.finfo(float).tiny)  # std::numeric_limits<double>::min(), the log floor in feature_pipeline.cpp
@@ -148,7 +155,8 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
     Args:
         pipeline: fitted on the columns of :func:`apply_feature_spec` (``spec``), labels = class-name strings.
         spec: the ``features`` block (:func:`feature_spec`).
-        descriptor: descriptor settings (the model file's ``descriptor`` block); default :func:`default_descriptor`.
+        descriptor: map and fit settings (``{"map", "sh"}`` and optionally ``"off_recipe"``, as
+            :func:`descriptor_of` gives them); default :func:`default_descriptor`.
         lmax: overrides ``descriptor.sh.lmax`` (default: the spec's l_max).
         training: fields of the ``training`` block to set (samples, best_c, test_accuracy, notes, ...).
     """
@@ -176,7 +184,10 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
              "nested_cv_std": 0.0, "notes": "converted from scikit-learn by clients/convert/sklearn_to_wish.py"}
     train.update(training or {})
     payload = {
-        "name": name, "version": str(version), "classes": classes, "descriptor": desc, "features": spec,
+        "name": name, "version": str(version), "classes": classes,
+        # The descriptor recipe (format 2): map + fit + feature pipeline + the policy for off-recipe maps.
+        "recipe": {"recipe_version": RECIPE_VERSION, "map": desc["map"], "sh": desc["sh"], "features": spec,
+                   "off_recipe": desc.get("off_recipe", "refuse")},
         "scaler": {"mean": mean.tolist(), "scale": scale.tolist()},
         "svm": {"type": "c_svc", "kernel": "rbf", "C": float(svc.C), "gamma": float(svc._gamma),
                 "n_features": n_features, "n_classes": k, "labels": list(range(k)),
@@ -203,10 +214,17 @@ def read_model(path: str | Path, check_seal: bool = True) -> dict[str, Any]:
     when merely copying settings out of such a file.
     """
     doc = json.loads(Path(path).read_text(encoding="utf-8"))
-    if doc.get("format") != FORMAT_NAME or doc.get("format_version") != FORMAT_VERSION:
-        raise ValueError(f"{path}: not a {FORMAT_NAME} version {FORMAT_VERSION} file")
+    if doc.get("format") != FORMAT_NAME or doc.get("format_version") not in (1, FORMAT_VERSION):
+        raise ValueError(f"{path}: not a {FORMAT_NAME} version 1 or {FORMAT_VERSION} file")
     if check_seal and seal(doc["payload"]) != doc.get("payload_sha256"):
         raise ValueError(f"{path}: payload_sha256 does not match the content")
+    if doc["format_version"] == 1:  # the C++ loader's migration (model_file.cpp migrate_v1_payload)
+        p = doc["payload"]
+        recipe = dict(p.pop("descriptor"))
+        recipe.update({"features": p.pop("features"), "off_recipe": "accept_flagged", "recipe_version": 1})
+        p["recipe"] = recipe
+        doc["format_version"] = FORMAT_VERSION
+        doc["payload_sha256"] = seal(p) if check_seal else ""
     return doc
 
 
@@ -245,7 +263,7 @@ def predict_with_model(doc: dict[str, Any], xi: np.ndarray) -> list[dict[str, An
     """What the service answers for rows of ξ(0..Lmax): label (vote winner), probabilities, pairwise decisions."""
     p = doc["payload"]
     svm = p["svm"]
-    x = (apply_feature_spec(xi, p["features"]) - np.asarray(p["scaler"]["mean"])) / np.asarray(p["scaler"]["scale"])
+    x = (apply_feature_spec(xi, p["recipe"]["features"]) - np.asarray(p["scaler"]["mean"])) / np.asarray(p["scaler"]["scale"])
     sv = np.asarray(svm["support_vectors"], float)
     coef = np.asarray(svm["sv_coef"], float)
     rho = np.asarray(svm["rho"], float)
@@ -304,7 +322,7 @@ def _labels_for(files: Sequence[str], own: list[str] | None, args: argparse.Name
 
 def _descriptor(args: argparse.Namespace) -> dict[str, Any] | None:
     if getattr(args, "descriptor_from", None):
-        return copy.deepcopy(read_model(args.descriptor_from, check_seal=False)["payload"]["descriptor"])
+        return descriptor_of(read_model(args.descriptor_from, check_seal=False))
     return None
 
 
@@ -364,7 +382,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     if args.pipeline:
         with open(args.pipeline, "rb") as fh:
             pipe = pickle.load(fh)  # noqa: S301
-        ref = pipe.predict(apply_feature_spec(xi, doc["payload"]["features"]))
+        ref = pipe.predict(apply_feature_spec(xi, doc["payload"]["recipe"]["features"]))
         bad = sum(1 for a, b in zip(preds, ref) if a["label"] != b)
         print(f"# {len(files) - bad}/{len(files)} labels agree with the pipeline", file=sys.stderr)
         return 1 if bad else 0

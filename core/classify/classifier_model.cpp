@@ -16,14 +16,13 @@ ClassifierModel::ClassifierModel(std::shared_ptr<const State> state) : state_(st
 const std::string& ClassifierModel::name() const { return state_->name; }
 const std::string& ClassifierModel::version() const { return state_->version; }
 const std::vector<std::string>& ClassifierModel::classes() const { return state_->classes; }
-const DescriptorSettings& ClassifierModel::descriptor_settings() const { return state_->descriptor; }
-const FeatureSpec& ClassifierModel::feature_spec() const { return state_->spec; }
+const DescriptorRecipe& ClassifierModel::recipe() const { return state_->recipe; }
 const TrainingSummary& ClassifierModel::training_summary() const { return state_->summary; }
 const std::string& ClassifierModel::payload_sha256() const { return state_->payload_sha256; }
 
 Prediction ClassifierModel::predict(const ShapeFeatures& features) const {
   const State& s = *state_;
-  const Eigen::VectorXd x = s.scaler.transform(apply_feature_pipeline(features, s.spec));
+  const Eigen::VectorXd x = s.scaler.transform(apply_feature_pipeline(features, s.recipe.features));
   const SvmOutput out = s.svm.predict(x);
   const int k = static_cast<int>(s.classes.size());
   Prediction p;

@@ -1,6 +1,6 @@
 #pragma once
-// A trained WISH classifier (paper §6; ../shared/design/classification.md): the descriptor settings it was
-// trained with, the feature pipeline, the z-score scaler, and an RBF C-SVM (libsvm) with Platt probabilities.
+// A trained WISH classifier (paper §6; ../shared/design/classification.md): the descriptor recipe it was
+// trained with (descriptor_recipe.hpp: map, fit, feature pipeline, off-recipe policy), the feature pipeline, the z-score scaler, and an RBF C-SVM (libsvm) with Platt probabilities.
 // One self-describing, versioned JSON model file holds all of it (model_file.cpp).
 
 #include <filesystem>
@@ -12,35 +12,14 @@
 
 #include <Eigen/Core>
 
-#include "core/sh/sh_descriptor.hpp"
-#include "core/spherical_map/spherical_map.hpp"
+#include "core/classify/descriptor_recipe.hpp"
 
 namespace wish {
-
-// How a descriptor must be computed for this model; a request computed differently is recomputed with
-// these settings or refused, never silently mismatched.
-struct DescriptorSettings {
-  SphericalMapOptions map;   // method, steps, tau, filter
-  ShFitOptions sh;           // lmax, regularization, weighting, solver
-  bool operator==(const DescriptorSettings&) const = default;
-};
-
-enum class FeatureFamily { Invariants, Global, Combined };
-enum class ScaleNormalization { None, ByFirstInvariant, ByArea };  // xi(l)/xi(1), or xi(l)/surface area
 
 // The raw, rotation-invariant features of one shape, before the model's feature pipeline.
 struct ShapeFeatures {
   Eigen::VectorXd invariants;  // xi(0..Lmax)
   Eigen::VectorXd global;      // global_shape_descriptors(mesh)
-};
-
-struct FeatureSpec {
-  FeatureFamily family = FeatureFamily::Invariants;
-  int l_min = 1, l_max = 5;                 // which xi(l) are used (inclusive)
-  ScaleNormalization scale = ScaleNormalization::None;
-  bool log_transform = false;               // log(x) of the (normalised) energies
-  bool global_scale_free = false;           // Global/Combined: only the scale-free global descriptors
-  bool operator==(const FeatureSpec&) const = default;
 };
 
 struct Prediction {
@@ -60,9 +39,15 @@ struct TrainingSummary {
   std::string notes;
 };
 
+// The recipe as the model file stores it (payload.recipe), as JSON text: for model listings and reports.
+std::string descriptor_recipe_json_text(const DescriptorRecipe& recipe);
+
 class ClassifierModel {
  public:
-  static constexpr int kFormatVersion = 1;
+  // 2: the descriptor recipe (map + fit + features + off-recipe policy) in payload.recipe. Version 1 files
+  // (payload.descriptor + payload.features) load through a migration with policy accept_flagged, which is
+  // what version-1 code did with fallback maps.
+  static constexpr int kFormatVersion = 2;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.
@@ -79,13 +64,10 @@ class ClassifierModel {
   const std::string& name() const;
   const std::string& version() const;
   const std::vector<std::string>& classes() const;
-  const DescriptorSettings& descriptor_settings() const;
-  const FeatureSpec& feature_spec() const;
+  const DescriptorRecipe& recipe() const;
+  const FeatureSpec& feature_spec() const { return recipe().features; }
   const TrainingSummary& training_summary() const;
-  // ByArea normalisation needs the mesh area, which is one of the global descriptors.
-  bool needs_global_features() const {
-    return feature_spec().family != FeatureFamily::Invariants || feature_spec().scale == ScaleNormalization::ByArea;
-  }
+  bool needs_global_features() const { return recipe().needs_global_features(); }
   const std::string& payload_sha256() const;  // SHA-256 of the canonical payload (the file's seal)
 
   struct State;  // defined in classifier_model.cpp / svm_engine.cpp

@@ -15,8 +15,7 @@ struct ClassifierModel::State {
   std::string name = "wish-svm";
   std::string version = "1";
   std::vector<std::string> classes;  // class label i of the SVM is classes[i]; sorted
-  DescriptorSettings descriptor;
-  FeatureSpec spec;
+  DescriptorRecipe recipe;
   StandardScaler scaler;
   SvmEngine svm;
   TrainingSummary summary;

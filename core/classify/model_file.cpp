@@ -1,7 +1,7 @@
 // The model file (classification.md "The model on disk"): one versioned, self-describing JSON document
-//   { "format": "wish-classifier", "format_version": 1, "payload": {...}, "payload_sha256": "<hex>" }
-// The payload holds the classes, descriptor settings (Lmax, nu, weighting, spherical-map method and
-// parameters), the feature pipeline, the scaler, the SVM (parameters, support vectors, coefficients, rho,
+//   { "format": "wish-classifier", "format_version": 2, "payload": {...}, "payload_sha256": "<hex>" }
+// The payload holds the classes, the descriptor recipe (payload.recipe: recipe_version, map, sh, features with
+// their column names, off_recipe policy; descriptor_recipe.hpp), the scaler, the SVM (parameters, support vectors, coefficients, rho,
 // probA/probB) and the training summary. The seal is the SHA-256 of payload.dump() — nlohmann::json sorts keys
 // and prints doubles in their shortest round-trip form, so the dump is canonical and survives a parse.
 // A converter that edits a model on purpose (clients/) recomputes the seal the same way.
@@ -12,7 +12,7 @@
 
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/classifier_state.hpp"
-#include "core/classify/descriptor_settings_codec.hpp"
+#include "core/classify/descriptor_recipe_codec.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/common/errors.hpp"
@@ -93,7 +93,7 @@ json rows(const Eigen::MatrixXd& m) {
   return out;
 }
 
-// Writes every field listed by visit_settings().
+// Writes every field listed by visit_recipe().
 struct SettingsWriter {
   json& out;
   template <class T> void field(const char* key, const T& value) { out[key] = value; }
@@ -104,7 +104,7 @@ struct SettingsWriter {
   }
 };
 
-// Reads every field listed by visit_settings(); a missing or mistyped field is refused with its path.
+// Reads every field listed by visit_recipe(); a missing or mistyped field is refused with its path.
 struct SettingsReader {
   const json& in;
   std::string where;
@@ -131,21 +131,53 @@ struct SettingsReader {
   static FitWeighting enum_from_name(const std::string& n, FitWeighting) { return fit_weighting_from_name(n); }
   static FitSolver enum_from_name(const std::string& n, FitSolver) { return fit_solver_from_name(n); }
   static GramMethod enum_from_name(const std::string& n, GramMethod) { return gram_method_from_name(n); }
+  static FeatureFamily enum_from_name(const std::string& n, FeatureFamily) { return feature_family_from_name(n); }
+  static ScaleNormalization enum_from_name(const std::string& n, ScaleNormalization) {
+    return scale_normalization_from_name(n);
+  }
+  static OffRecipePolicy enum_from_name(const std::string& n, OffRecipePolicy) { return off_recipe_policy_from_name(n); }
 };
 
-json descriptor_to_json(const DescriptorSettings& d) {
+json recipe_to_json(const DescriptorRecipe& r) {
   json out = json::object();
   SettingsWriter writer{out};
-  visit_settings(writer, d);
+  visit_recipe(writer, r);
+  out["recipe_version"] = DescriptorRecipe::kVersion;
+  out["features"]["names"] = feature_names(r.features);  // for readers of the file; checked on load
   return out;
 }
 
-DescriptorSettings descriptor_from_json(const json& j) {
-  DescriptorSettings d;
-  SettingsReader reader{j, "descriptor"};
-  visit_settings(reader, d);
-  if (d.sh.lmax < 0 || d.sh.lmax > 100) invalid("descriptor.sh.lmax " + std::to_string(d.sh.lmax) + " is out of range");
-  return d;
+DescriptorRecipe recipe_from_json(const json& j) {
+  const std::int64_t version = integer(j, "recipe_version", "recipe");
+  if (version != DescriptorRecipe::kVersion)
+    throw InvalidInputError("model_version", "descriptor recipe version " + std::to_string(version) +
+                                                 " is not supported (this build reads version " +
+                                                 std::to_string(DescriptorRecipe::kVersion) + ")");
+  DescriptorRecipe r;
+  SettingsReader reader{j, "recipe"};
+  visit_recipe(reader, r);
+  if (r.sh.lmax < 0 || r.sh.lmax > 100) invalid("recipe.sh.lmax " + std::to_string(r.sh.lmax) + " is out of range");
+  const json& names = field(field(j, "features", "recipe"), "names", "recipe.features");
+  if (names != json(feature_names(r.features)))
+    invalid("recipe.features.names do not match the feature pipeline (" + names.dump() + ")");
+  return r;
+}
+
+// Format 1 -> 2: payload.descriptor {map, sh} and payload.features became payload.recipe {map, sh, features,
+// off_recipe, recipe_version}. Version-1 code predicted from any verified map, whatever method the fallback chain
+// ended on, so the migrated policy is accept_flagged: the model predicts as before, and now says when it did so
+// from an off-recipe map.
+json migrate_v1_payload(json p) {
+  if (!p.is_object()) invalid("payload is not an object");
+  json recipe = field(p, "descriptor", "payload");
+  if (!recipe.is_object()) invalid("payload.descriptor is not an object");
+  recipe["features"] = field(p, "features", "payload");
+  recipe["off_recipe"] = to_string(OffRecipePolicy::AcceptFlagged);
+  recipe["recipe_version"] = 1;
+  p.erase("descriptor");
+  p.erase("features");
+  p["recipe"] = std::move(recipe);
+  return p;
 }
 
 json payload_of(const ClassifierModel::State& s) {
@@ -154,11 +186,7 @@ json payload_of(const ClassifierModel::State& s) {
   return {{"name", s.name},
           {"version", s.version},
           {"classes", s.classes},
-          {"descriptor", descriptor_to_json(s.descriptor)},
-          {"features",
-           {{"family", to_string(s.spec.family)}, {"l_min", s.spec.l_min}, {"l_max", s.spec.l_max},
-            {"scale", to_string(s.spec.scale)}, {"log", s.spec.log_transform},
-            {"global_scale_free", s.spec.global_scale_free}, {"names", feature_names(s.spec)}}},
+          {"recipe", recipe_to_json(s.recipe)},
           {"scaler", {{"mean", to_array(s.scaler.mean)}, {"scale", to_array(s.scaler.scale)}}},
           {"svm",
            {{"type", "c_svc"}, {"kernel", "rbf"}, {"C", svm.C}, {"gamma", svm.gamma}, {"n_features", svm.n_features},
@@ -203,21 +231,12 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
     if (!c.is_string()) invalid("payload.classes contains a non-string");
     s->classes.push_back(c.get<std::string>());
   }
-  s->descriptor = descriptor_from_json(field(p, "descriptor", "payload"));
-  const json& f = field(p, "features", "payload");
   try {
-    s->spec.family = feature_family_from_name(str(f, "family", "features"));
-    s->spec.scale = scale_normalization_from_name(str(f, "scale", "features"));
+    s->recipe = recipe_from_json(field(p, "recipe", "payload"));
   } catch (const InvalidInputError& e) {
+    if (e.code() == "model_invalid" || e.code() == "model_version") throw;
     invalid(e.what());
   }
-  s->spec.l_min = static_cast<int>(integer(f, "l_min", "features"));
-  s->spec.l_max = static_cast<int>(integer(f, "l_max", "features"));
-  s->spec.log_transform = boolean(f, "log", "features");
-  s->spec.global_scale_free = boolean(f, "global_scale_free", "features");
-  const json& names = field(f, "names", "features");
-  if (names != json(feature_names(s->spec)))
-    invalid("features.names do not match the feature pipeline (" + names.dump() + ")");
   const json& sc = field(p, "scaler", "payload");
   const std::vector<double> mean = numbers(field(sc, "mean", "scaler"), "scaler.mean");
   const std::vector<double> scale = numbers(field(sc, "scale", "scaler"), "scaler.scale");
@@ -256,14 +275,12 @@ std::shared_ptr<const ClassifierModel::State> finalize_state(std::shared_ptr<Cla
       if (s->classes[i] == s->classes[j]) invalid("duplicate class name '" + s->classes[i] + "'");
   }
   try {
-    validate_feature_spec(s->spec);
+    validate_feature_spec(s->recipe.features);
+    validate_recipe(s->recipe, "model_invalid");
   } catch (const InvalidInputError& e) {
     invalid(e.what());
   }
-  if (s->spec.family != FeatureFamily::Global && s->spec.l_max > s->descriptor.sh.lmax)
-    invalid("features use xi(" + std::to_string(s->spec.l_max) + ") but descriptor.sh.lmax is " +
-            std::to_string(s->descriptor.sh.lmax));
-  const auto d = static_cast<Eigen::Index>(feature_names(s->spec).size());
+  const auto d = static_cast<Eigen::Index>(feature_names(s->recipe.features).size());
   if (s->scaler.mean.size() != d || s->scaler.scale.size() != d)
     invalid("the scaler has " + std::to_string(s->scaler.mean.size()) + "/" + std::to_string(s->scaler.scale.size()) +
             " entries for " + std::to_string(d) + " features");
@@ -275,6 +292,8 @@ std::shared_ptr<const ClassifierModel::State> finalize_state(std::shared_ptr<Cla
   s->payload_sha256 = Sha256::hex(payload_of(*s).dump());
   return s;
 }
+
+std::string descriptor_recipe_json_text(const DescriptorRecipe& recipe) { return recipe_to_json(recipe).dump(); }
 
 std::string ClassifierModel::to_json_text() const { return document_of(*state_).dump(1) + "\n"; }
 
@@ -314,9 +333,9 @@ ClassifierModel ClassifierModel::from_json_text(const std::string& text) {
   if (!doc.contains("format_version") || !doc["format_version"].is_number_integer())
     invalid("missing format_version");
   const auto version = doc["format_version"].get<std::int64_t>();
-  if (version != kFormatVersion)
+  if (version != kFormatVersion && version != 1)
     throw InvalidInputError("model_version",
-                            "model file format version " + std::to_string(version) + " is not supported (this build reads version " +
+                            "model file format version " + std::to_string(version) + " is not supported (this build reads versions 1 and " +
                                 std::to_string(kFormatVersion) + ")",
                             {{"version", version}, {"supported", std::int64_t{kFormatVersion}}});
   const json& payload = field(doc, "payload", "document");
@@ -326,7 +345,8 @@ ClassifierModel ClassifierModel::from_json_text(const std::string& text) {
     invalid("payload_sha256 does not match the content: the file was edited or corrupted (stored " + seal.substr(0, 16) +
             "..., computed " + actual.substr(0, 16) + "...)");
   try {
-    return ClassifierModel(finalize_state(state_from_payload(payload)));
+    // The seal covers the payload as stored; a migrated model is re-sealed over its new payload by finalize_state.
+    return ClassifierModel(finalize_state(state_from_payload(version == 1 ? migrate_v1_payload(payload) : payload)));
   } catch (const InvalidInputError& e) {
     if (e.code() == "model_invalid" || e.code() == "model_version") throw;
     invalid(e.what());

@@ -94,25 +94,78 @@ void build_feature_matrix(const std::vector<TrainingSample>& samples, const Feat
   }
 }
 
+NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vector<int>& y,
+                                       const NestedCvOptions& options) {
+  NestedCvResult out;
+  if (y.empty() || options.repeats <= 0) return out;
+  std::map<int, int> counts;
+  for (int v : y) ++counts[v];
+  int min_class = static_cast<int>(y.size());
+  for (const auto& [label, n] : counts) min_class = std::min(min_class, n);
+  const int outer = std::min(options.outer_folds, min_class);
+  if (outer < 2) return out;
+  for (int r = 0; r < options.repeats; ++r) {
+    const std::uint64_t seed_r = options.seed + 1000 * static_cast<std::uint64_t>(r);
+    const auto folds = stratified_k_fold(y, outer, seed_r);
+    for (std::size_t f = 0; f < folds.size(); ++f) {
+      const Eigen::MatrixXd Xa = rows_of(X, folds[f].train), Xb = rows_of(X, folds[f].test);
+      const std::vector<int> ya = pick(y, folds[f].train), yb = pick(y, folds[f].test);
+      const StandardScaler sc = StandardScaler::fit(Xa);
+      const Eigen::MatrixXd Xas = sc.transform(Xa), Xbs = sc.transform(Xb);
+      GridSearchResult inner;
+      try {
+        inner = search(Xas, ya, options.inner_splits, options.validation_fraction, seed_r + f + 1, options.grid);
+      } catch (const InvalidInputError&) {
+        continue;  // an outer fold too small for the inner split; reported through the fold count
+      }
+      SvmParams p;
+      p.C = inner.C();
+      p.gamma = inner.gamma();
+      p.probability = false;
+      const SvmEngine m = SvmEngine::train(Xas, ya, p, 0);
+      std::vector<int> pb;
+      for (Eigen::Index i = 0; i < Xbs.rows(); ++i) pb.push_back(m.predict_label(Xbs.row(i).transpose()));
+      out.scores.push_back(accuracy(yb, pb));
+      out.chosen.emplace_back(p.C, p.gamma);
+    }
+  }
+  if (!out.scores.empty()) {
+    double sum = 0;
+    for (double s : out.scores) sum += s;
+    out.mean = sum / static_cast<double>(out.scores.size());
+    double var = 0;
+    for (double s : out.scores) var += (s - out.mean) * (s - out.mean);
+    out.std = std::sqrt(var / static_cast<double>(out.scores.size()));
+  }
+  return out;
+}
+
 TrainingResult train_classifier(const std::vector<TrainingSample>& samples, const TrainOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
-  validate_feature_spec(options.spec);
-  if (options.spec.family != FeatureFamily::Global && options.spec.l_max > options.descriptor.sh.lmax)
-    throw InvalidInputError("training_data", "features use xi(" + std::to_string(options.spec.l_max) +
-                                                 ") but descriptors are computed up to Lmax " +
-                                                 std::to_string(options.descriptor.sh.lmax));
+  const FeatureSpec& spec = options.recipe.features;
+  validate_feature_spec(spec);
+  validate_recipe(options.recipe, "training_data");
   TrainingReport rep;
-  rep.spec = options.spec;
+  {
+    std::vector<std::string> kept, flagged;
+    for (const auto& smp : samples) {
+      kept.push_back(smp.label);
+      if (smp.off_recipe) flagged.push_back(smp.label);
+    }
+    rep.losses = summarize_losses(kept, options.losses, flagged);
+    enforce_loss_policy(rep.losses, options.loss_policy);
+  }
+  rep.spec = spec;
   rep.seed = options.seed;
   rep.samples = static_cast<std::int64_t>(samples.size());
-  rep.feature_names = feature_names(options.spec);
+  rep.feature_names = feature_names(spec);
   rep.dataset_sha256 = dataset_sha256(samples);
   Eigen::MatrixXd X;
   std::vector<int> y;
-  build_feature_matrix(samples, options.spec, X, y, rep.classes);
+  build_feature_matrix(samples, spec, X, y, rep.classes);
   const int k = static_cast<int>(rep.classes.size());
   rep.class_counts.assign(k, 0);
   for (int v : y) ++rep.class_counts[v];
@@ -158,43 +211,16 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
 
   // Nested, repeated stratified CV: the whole selection procedure (scaler + grid search) inside each outer fold.
   const auto nested_start = std::chrono::steady_clock::now();
-  const int min_class = *std::min_element(rep.class_counts.begin(), rep.class_counts.end());
-  const int outer = std::min(options.nested_outer_folds, min_class);
-  if (options.nested_repeats > 0 && outer >= 2) {
-    for (int r = 0; r < options.nested_repeats; ++r) {
-      const auto folds = stratified_k_fold(y, outer, seed_nested + 1000 * static_cast<std::uint64_t>(r));
-      for (std::size_t f = 0; f < folds.size(); ++f) {
-        const Eigen::MatrixXd Xa = rows_of(X, folds[f].train), Xb = rows_of(X, folds[f].test);
-        const std::vector<int> ya = pick(y, folds[f].train), yb = pick(y, folds[f].test);
-        const StandardScaler sc = StandardScaler::fit(Xa);
-        const Eigen::MatrixXd Xas = sc.transform(Xa), Xbs = sc.transform(Xb);
-        GridSearchResult inner;
-        try {
-          inner = search(Xas, ya, options.nested_inner_splits, options.grid_validation_fraction,
-                         seed_nested + 1000 * static_cast<std::uint64_t>(r) + f + 1, options.grid);
-        } catch (const InvalidInputError&) {
-          continue;  // an outer fold too small for the inner split; reported through the fold count
-        }
-        SvmParams p;
-        p.C = inner.C();
-        p.gamma = inner.gamma();
-        p.probability = false;
-        const SvmEngine m = SvmEngine::train(Xas, ya, p, 0);
-        std::vector<int> pb;
-        for (Eigen::Index i = 0; i < Xbs.rows(); ++i) pb.push_back(m.predict_label(Xbs.row(i).transpose()));
-        rep.nested.scores.push_back(accuracy(yb, pb));
-        rep.nested.chosen.emplace_back(p.C, p.gamma);
-      }
-      say("nested CV: repeat " + std::to_string(r + 1) + "/" + std::to_string(options.nested_repeats) + " done");
-    }
-    if (!rep.nested.scores.empty()) {
-      double sum = 0;
-      for (double s : rep.nested.scores) sum += s;
-      rep.nested.mean = sum / static_cast<double>(rep.nested.scores.size());
-      double var = 0;
-      for (double s : rep.nested.scores) var += (s - rep.nested.mean) * (s - rep.nested.mean);
-      rep.nested.std = std::sqrt(var / static_cast<double>(rep.nested.scores.size()));
-    }
+  if (options.nested_repeats > 0) {
+    NestedCvOptions nested;
+    nested.outer_folds = options.nested_outer_folds;
+    nested.repeats = options.nested_repeats;
+    nested.inner_splits = options.nested_inner_splits;
+    nested.validation_fraction = options.grid_validation_fraction;
+    nested.grid = options.grid;
+    nested.seed = seed_nested;
+    rep.nested = nested_cross_validation(X, y, nested);
+    say("nested CV: " + std::to_string(rep.nested.scores.size()) + " outer folds done");
   }
   rep.seconds_nested = std::chrono::duration<double>(std::chrono::steady_clock::now() - nested_start).count();
 
@@ -207,8 +233,7 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   state->name = options.name;
   state->version = options.version;
   state->classes = rep.classes;
-  state->descriptor = options.descriptor;
-  state->spec = options.spec;
+  state->recipe = options.recipe;
   state->scaler = final_scaler;
   TrainingSummary& t = state->summary;
   t.dataset_sha256 = rep.dataset_sha256;

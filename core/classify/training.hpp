@@ -13,6 +13,7 @@
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/metrics.hpp"
+#include "core/classify/training_losses.hpp"
 
 namespace wish {
 
@@ -20,13 +21,13 @@ struct TrainingSample {
   std::string id;     // file name or path (reports only)
   std::string label;  // class name
   ShapeFeatures features;
+  bool off_recipe = false;  // its map came from another method than the recipe's (kept by accept_flagged)
 };
 
 struct TrainOptions {
   std::string name = "wish-svm";
   std::string version = "1";
-  FeatureSpec spec;
-  DescriptorSettings descriptor;   // recorded in the model: how the features were computed
+  DescriptorRecipe recipe;         // recorded in the model: how the features were computed (recipe.features: the pipeline)
   GridSearchOptions grid;          // C, gamma grid and jobs
   int grid_splits = 10;            // StratifiedShuffleSplit n_splits (scikit-learn's default)
   double grid_validation_fraction = 0.2;
@@ -36,6 +37,10 @@ struct TrainOptions {
   int nested_inner_splits = 5;
   bool refit_on_all = false;       // false: the shipped model is the one measured on the test split
   std::uint64_t seed = 42;
+  // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
+  // class loses more than loss_policy.max_class_loss of its meshes (training_losses.hpp).
+  std::vector<MeshLoss> losses;
+  LossPolicy loss_policy;
   std::string trained_at;          // ISO 8601; empty: now, or SOURCE_DATE_EPOCH when set (reproducible files)
   std::string notes;
   std::function<void(const std::string&)> progress;  // optional, e.g. lines to stderr
@@ -50,6 +55,7 @@ struct NestedCvResult {
 struct TrainingReport {
   std::vector<std::string> classes;
   std::vector<int> class_counts;
+  std::vector<ClassLosses> losses;               // per class: meshes given, kept, lost by error code, flagged
   std::vector<std::string> feature_names;
   FeatureSpec spec;
   std::int64_t samples = 0;
@@ -65,12 +71,28 @@ struct TrainingReport {
   std::vector<std::string> test_true, test_predicted;
 };
 
+struct NestedCvOptions {
+  int outer_folds = 5;     // capped at the smallest class size
+  int repeats = 2;
+  int inner_splits = 5;    // StratifiedShuffleSplit of each outer training fold for the inner grid search
+  double validation_fraction = 0.2;
+  GridSearchOptions grid;
+  std::uint64_t seed = 45;
+};
+
+// Nested, repeated stratified CV on unscaled features X (one row per sample), classes y in 0..k-1: the whole
+// selection (z-score fitted on the outer training fold, inner grid search) runs inside each outer fold.
+// An outer fold too small for its inner split is skipped (the fold count says so).
+NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vector<int>& y,
+                                       const NestedCvOptions& options);
+
 struct TrainingResult {
   ClassifierModel model;
   TrainingReport report;
 };
 
-// Throws InvalidInputError("training_data") for too few samples / classes, inconsistent feature sizes.
+// Throws InvalidInputError("training_data") for too few samples / classes, inconsistent feature sizes;
+// InvalidInputError("training_losses") when a class lost more than options.loss_policy allows.
 TrainingResult train_classifier(const std::vector<TrainingSample>& samples, const TrainOptions& options);
 
 // The feature matrix (unscaled, one row per sample) and class indices (classes sorted by name).

@@ -69,8 +69,13 @@ std::string training_report_json(const TrainingReport& r) {
   json test_samples = json::array();
   for (std::size_t i = 0; i < r.test_ids.size(); ++i)
     test_samples.push_back({{"id", r.test_ids[i]}, {"true", r.test_true[i]}, {"predicted", r.test_predicted[i]}});
+  json losses = json::array();
+  for (const auto& c : r.losses)
+    losses.push_back({{"label", c.label}, {"meshes", c.total}, {"kept", c.kept}, {"lost", c.lost()},
+                      {"lost_share", c.lost_share()}, {"flagged_off_recipe", c.flagged}, {"lost_by_code", c.lost_by_code}});
   json doc = {
       {"samples", r.samples},
+      {"losses", losses},
       {"dataset_sha256", r.dataset_sha256},
       {"seed", r.seed},
       {"classes", classes},
@@ -105,6 +110,8 @@ std::string training_report_table(const TrainingReport& r) {
     o << ", nested CV " << fmt("%.3f", r.nested.mean) << " +- " << fmt("%.3f", r.nested.std) << " (" << r.nested.scores.size()
       << " outer folds)";
   o << "\n\n";
+  if (!r.losses.empty()) o << "meshes per class (lost: refused or failed, by error code; flagged: off-recipe maps kept)\n"
+                           << loss_table(r.losses) << "\n";
   std::size_t w = 10;
   for (const auto& c : r.classes) w = std::max(w, c.size() + 1);
   char buf[256];

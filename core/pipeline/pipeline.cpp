@@ -78,17 +78,27 @@ PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions
   return result;
 }
 
+PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptions base) {
+  base.map = recipe.map;
+  base.sh = recipe.sh;
+  base.compute_global_features = base.compute_global_features || recipe.needs_global_features();
+  return base;
+}
+
+void classify_described(PipelineResult& result, const ClassifierModel& model) {
+  const RecipeConformance conformance = check_recipe(model.recipe(), result.map);
+  enforce_recipe_policy(model.recipe(), conformance, model.name());
+  result.recipe = conformance;
+  result.prediction = model.predict(result.features);
+}
+
 PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel& model, PipelineOptions options,
                                    const Deadline& deadline) {
   const auto start = Clock::now();
   // The descriptor must be computed exactly as the model's training descriptors were (classification.md).
-  options.map = model.descriptor_settings().map;
-  options.sh = model.descriptor_settings().sh;
-  options.compute_global_features = options.compute_global_features || model.needs_global_features();
-
-  PipelineResult result = describe_mesh_bytes(bytes, options, deadline);
+  PipelineResult result = describe_mesh_bytes(bytes, options_for_recipe(model.recipe(), std::move(options)), deadline);
   const auto t = Clock::now();
-  result.prediction = model.predict(result.features);
+  classify_described(result, model);
   result.timings.classify = seconds_since(t);
   result.timings.total = seconds_since(start);
   return result;

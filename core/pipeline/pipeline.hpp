@@ -36,6 +36,9 @@ struct PipelineResult {
   ShDescriptor sh;
   ShapeFeatures features;
   std::optional<Prediction> prediction;
+  // With a prediction: whether the map was made the model's way (descriptor_recipe.hpp). recipe_match false
+  // means the model's off-recipe policy accepted a fallback map, and the result says so.
+  std::optional<RecipeConformance> recipe;
   std::optional<Mesh> reconstruction;
   StageTimings timings;
 };
@@ -46,8 +49,17 @@ PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions
                                    const Deadline& deadline = {});
 PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline = {});
 
-// Describes with the model's descriptor settings (options.map / options.sh are replaced by them), then predicts.
+// The pipeline options that compute a descriptor as `recipe` says (map, fit, global features when needed);
+// reading, repair limits and reconstruction are taken from `base`.
+PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptions base = {});
+
+// Describes with the model's recipe (options.map / options.sh are replaced by it), checks the map against the
+// recipe, then predicts. Throws WishError(Unmappable, "off_recipe") when the map came from another method and
+// the model's policy refuses that.
 PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel& model, PipelineOptions options,
                                    const Deadline& deadline = {});
+// The classify step on an already described mesh (result.map, result.features): conformance check, the model's
+// off-recipe policy, prediction. Sets result.recipe and result.prediction.
+void classify_described(PipelineResult& result, const ClassifierModel& model);
 
 }  // namespace wish

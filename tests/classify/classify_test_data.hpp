@@ -44,10 +44,10 @@ inline std::vector<TrainingSample> synthetic_samples(int classes, int per_class,
 inline TrainOptions quick_train_options(std::uint64_t seed = 7) {
   TrainOptions o;
   o.seed = seed;
-  o.spec.l_min = 1;
-  o.spec.l_max = 6;
-  o.spec.log_transform = true;
-  o.descriptor.sh.lmax = 8;
+  o.recipe.features.l_min = 1;
+  o.recipe.features.l_max = 6;
+  o.recipe.features.log_transform = true;
+  o.recipe.sh.lmax = 8;
   o.grid.Cs = decade_grid(-1, 3);
   o.grid.gammas = decade_grid(-3, 1);
   o.grid.jobs = 2;

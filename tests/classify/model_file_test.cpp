@@ -1,14 +1,18 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/classify/classifier_model.hpp"
+#include "core/classify/descriptor_table.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/common/errors.hpp"
 #include "tests/classify/classify_test_data.hpp"
+#include "tests/testing/test_data.hpp"
 
 namespace wish {
 namespace {
@@ -57,27 +61,32 @@ TEST(ModelFile, RoundTripGivesIdenticalPredictions) {
   }
 }
 
-TEST(ModelFile, DescriptorSettingsSurvive) {
+TEST(ModelFile, DescriptorRecipeSurvives) {
   auto opts = testing::quick_train_options();
   opts.nested_repeats = 0;
-  opts.descriptor.map.method = MapMethod::Cmcf;
-  opts.descriptor.map.willmore.tau = 0.5;
-  opts.descriptor.sh.regularization = 3e-4;
-  opts.descriptor.sh.weighting = FitWeighting::Uniform;
-  opts.descriptor.sh.solver = FitSolver::Banded;
-  // Every other field away from its default too: the file must carry all of them (descriptor_settings_codec.hpp).
-  opts.descriptor.map.method = MapMethod::Linear;
-  opts.descriptor.map.willmore.complex_dirac = false;
-  opts.descriptor.map.cmcf.fallback_max_steps = 77;
-  opts.descriptor.map.linear.always_clamp = true;
-  opts.descriptor.map.untangle = false;
-  opts.descriptor.map.solver = LinearSolverKind::EigenSimplicial;
-  opts.descriptor.map.verification.degenerate_height = 3e-13;
-  opts.descriptor.sh.gram = GramMethod::Product;
+  opts.recipe.map.method = MapMethod::Cmcf;
+  opts.recipe.map.willmore.tau = 0.5;
+  opts.recipe.sh.regularization = 3e-4;
+  opts.recipe.sh.weighting = FitWeighting::Uniform;
+  opts.recipe.sh.solver = FitSolver::Banded;
+  // Every other field away from its default too: the file must carry all of them (descriptor_recipe_codec.hpp).
+  opts.recipe.map.method = MapMethod::Linear;
+  opts.recipe.map.willmore.complex_dirac = false;
+  opts.recipe.map.cmcf.fallback_max_steps = 77;
+  opts.recipe.map.linear.always_clamp = true;
+  opts.recipe.map.untangle = false;
+  opts.recipe.map.solver = LinearSolverKind::EigenSimplicial;
+  opts.recipe.map.verification.degenerate_height = 3e-13;
+  opts.recipe.sh.gram = GramMethod::Product;
+  opts.recipe.features.scale = ScaleNormalization::ByFirstInvariant;
+  opts.recipe.features.l_min = 2;
+  opts.recipe.off_recipe = OffRecipePolicy::AcceptFlagged;
   const auto model = train_classifier(testing::synthetic_samples(2, 8, 3), opts).model;
   const auto loaded = ClassifierModel::from_json_text(model.to_json_text());
-  const auto& d = loaded.descriptor_settings();
-  EXPECT_TRUE(d == opts.descriptor);
+  const auto& d = loaded.recipe();
+  EXPECT_TRUE(d == opts.recipe);
+  EXPECT_EQ(d.off_recipe, OffRecipePolicy::AcceptFlagged);
+  EXPECT_EQ(d.features.l_min, 2);
   EXPECT_EQ(d.map.method, MapMethod::Linear);
   EXPECT_EQ(d.map.willmore.tau, 0.5);
   EXPECT_EQ(d.sh.regularization, 3e-4);
@@ -133,13 +142,23 @@ TEST(ModelFile, RefusesMismatchedSizesEvenWhenResealed) {
   }
   {
     auto d = doc;
-    d["payload"]["features"]["l_max"] = 7;
+    d["payload"]["recipe"]["features"]["l_max"] = 7;
     expect_refused(reseal(d), "model_invalid", "features.names");
   }
   {
     auto d = doc;
-    d["payload"]["descriptor"]["sh"].erase("lmax");
-    expect_refused(reseal(d), "model_invalid", "descriptor.sh.lmax");
+    d["payload"]["recipe"]["sh"].erase("lmax");
+    expect_refused(reseal(d), "model_invalid", "recipe.sh.lmax");
+  }
+  {
+    auto d = doc;
+    d["payload"]["recipe"]["off_recipe"] = "sometimes";
+    expect_refused(reseal(d), "model_invalid", "recipe.off_recipe 'sometimes'");
+  }
+  {
+    auto d = doc;
+    d["payload"]["recipe"]["recipe_version"] = 99;
+    expect_refused(reseal(d), "model_version", "recipe version 99");
   }
   {
     auto d = doc;
@@ -147,6 +166,63 @@ TEST(ModelFile, RefusesMismatchedSizesEvenWhenResealed) {
     expect_refused(reseal(d), "model_invalid", "RBF");
   }
   EXPECT_NO_THROW((void)ClassifierModel::from_json_text(reseal(doc)));
+}
+
+// A model file of format version 1 (the bundled default model as main cfdc7a1 wrote it, committed as a fixture)
+// loads through the migration and predicts what version-1 code predicted: the labels of its training report's
+// hold-out split (tests/classify/data/model_format_v1_predictions.csv, column predicted_v1).
+std::filesystem::path fixture_dir() { return testing::project_data_dir().parent_path() / "tests" / "classify" / "data"; }
+
+TEST(ModelFileMigration, FormatVersion1LoadsAndPredictsTheSame) {
+  const auto v1_path = fixture_dir() / "model_format_v1.json";
+  ASSERT_TRUE(std::filesystem::exists(v1_path)) << v1_path;
+  std::ifstream in(v1_path);
+  const auto v1_doc = nlohmann::json::parse(in);
+  ASSERT_EQ(v1_doc["format_version"], 1);
+  const ClassifierModel model = ClassifierModel::load(v1_path);
+  const DescriptorRecipe& r = model.recipe();
+  EXPECT_EQ(r.off_recipe, OffRecipePolicy::AcceptFlagged);  // what version-1 code did with fallback maps
+  EXPECT_EQ(r.map.method, MapMethod::Willmore);
+  EXPECT_EQ(r.sh.lmax, 5);
+  EXPECT_EQ(r.sh.regularization, 1e-5);
+  EXPECT_EQ(r.features.l_max, 5);
+  EXPECT_TRUE(r.features.log_transform);
+  EXPECT_EQ(r.features.family, FeatureFamily::Invariants);
+  EXPECT_EQ(model.classes().size(), 6u);
+
+  std::ifstream csv_in(fixture_dir() / "model_format_v1_predictions.csv");
+  std::stringstream text;
+  text << csv_in.rdbuf();
+  const auto rows = parse_csv(text.str());
+  const auto table = read_descriptor_table(text.str());
+  ASSERT_EQ(rows.size(), table.samples.size() + 1);
+  ASSERT_EQ(table.samples.size(), 15u);
+  const auto column = std::find(rows[0].begin(), rows[0].end(), "predicted_v1") - rows[0].begin();
+  ASSERT_LT(column, static_cast<long>(rows[0].size()));
+
+  // Saved again it is a version-2 file that predicts bit for bit the same as the migrated one.
+  const std::string v2_text = model.to_json_text();
+  EXPECT_EQ(nlohmann::json::parse(v2_text)["format_version"], ClassifierModel::kFormatVersion);
+  const ClassifierModel reloaded = ClassifierModel::from_json_text(v2_text);
+  EXPECT_TRUE(reloaded.recipe() == model.recipe());
+  for (std::size_t i = 0; i < table.samples.size(); ++i) {
+    const Prediction p = model.predict(table.samples[i].features);
+    EXPECT_EQ(p.label, rows[i + 1][static_cast<std::size_t>(column)]) << table.samples[i].id;
+    const Prediction q = reloaded.predict(table.samples[i].features);
+    EXPECT_EQ(q.label, p.label);
+    EXPECT_EQ(q.probabilities, p.probabilities);
+    EXPECT_EQ(q.margin, p.margin);
+  }
+}
+
+TEST(ModelFileMigration, Version1WithBrokenContentIsStillRefused) {
+  std::ifstream in(fixture_dir() / "model_format_v1.json");
+  auto doc = nlohmann::json::parse(in);
+  doc["payload"]["features"]["l_max"] = 9;  // beyond descriptor.sh.lmax 5, and names no longer match
+  expect_refused(reseal(doc), "model_invalid", "features.names");
+  doc = nlohmann::json::parse(std::ifstream(fixture_dir() / "model_format_v1.json"));
+  doc["payload"].erase("descriptor");
+  expect_refused(reseal(doc), "model_invalid", "payload.descriptor");
 }
 
 TEST(ModelFile, LoadNamesThePath) {

@@ -22,10 +22,7 @@ TEST(SlowClassifyPipeline, RotatedTranslatedCopyGetsTheSamePrediction) {
   Mesh moved = mesh;
   const Eigen::Matrix3d R = testing::random_rotation(testing::test_seed());
   moved.vertices = (mesh.vertices * R.transpose()).rowwise() + Eigen::RowVector3d(12.5, -40, 3);
-  PipelineOptions po;
-  po.map = model.descriptor_settings().map;
-  po.sh = model.descriptor_settings().sh;
-  po.compute_global_features = model.needs_global_features();
+  const PipelineOptions po = options_for_recipe(model.recipe());
   const PipelineResult a = describe_mesh(mesh, po), b = describe_mesh(moved, po);
   const Prediction pa = model.predict(a.features), pb = model.predict(b.features);
   EXPECT_EQ(pa.label, pb.label);

@@ -105,7 +105,7 @@ TEST(Training, FamiliesAndRefit) {
   for (auto family : {FeatureFamily::Invariants, FeatureFamily::Global, FeatureFamily::Combined}) {
     auto opts = testing::quick_train_options(8);
     opts.nested_repeats = 0;
-    opts.spec.family = family;
+    opts.recipe.features.family = family;
     opts.refit_on_all = family == FeatureFamily::Combined;
     const auto r = train_classifier(samples, opts);
     EXPECT_EQ(r.model.needs_global_features(), family != FeatureFamily::Invariants);
@@ -121,6 +121,68 @@ TEST(Training, RefusesUnusableData) {
   samples = testing::synthetic_samples(2, 6, 24);
   samples[0].features.invariants.resize(3);
   EXPECT_THROW(train_classifier(samples, opts), InvalidInputError);
+}
+
+// Training never hides losses (issue 12): per class, meshes lost by error code; a class over the limit stops
+// training with a message naming it, unless losses are allowed.
+std::vector<MeshLoss> losses_of(const std::string& label, int n, const std::string& code) {
+  std::vector<MeshLoss> out;
+  for (int i = 0; i < n; ++i) out.push_back({label + "_lost_" + std::to_string(i), label, code, "test"});
+  return out;
+}
+
+TEST(TrainingLosses, CountedPerClassAndCode) {
+  const std::vector<std::string> kept{"a", "a", "a", "b", "b"};
+  auto losses = losses_of("a", 2, "map_failed");
+  losses.push_back({"x", "a", "off_recipe", ""});
+  losses.push_back({"y", "c", "degenerate_faces", ""});  // a class that lost every mesh still appears
+  const auto rows = summarize_losses(kept, losses, {"b"});
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].label, "a");
+  EXPECT_EQ(rows[0].total, 6);
+  EXPECT_EQ(rows[0].kept, 3);
+  EXPECT_EQ(rows[0].lost_by_code.at("map_failed"), 2);
+  EXPECT_EQ(rows[0].lost_by_code.at("off_recipe"), 1);
+  EXPECT_DOUBLE_EQ(rows[0].lost_share(), 0.5);
+  EXPECT_EQ(rows[1].flagged, 1);
+  EXPECT_EQ(rows[1].lost(), 0);
+  EXPECT_EQ(rows[2].total, 1);
+  EXPECT_EQ(rows[2].kept, 0);
+  const std::string table = loss_table(rows);
+  EXPECT_NE(table.find("map_failed x2"), std::string::npos) << table;
+  EXPECT_NE(table.find("degenerate_faces x1"), std::string::npos) << table;
+}
+
+TEST(TrainingLosses, StopsWhenAClassLosesMoreThanTheLimit) {
+  const auto samples = testing::synthetic_samples(2, 12, 31);  // 12 per class kept
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  opts.losses = losses_of("class_a", 1, "map_failed");  // 1 of 13: 7.7 % <= 10 %
+  const auto ok = train_classifier(samples, opts);
+  ASSERT_EQ(ok.report.losses.size(), 2u);
+  EXPECT_EQ(ok.report.losses[0].lost(), 1);
+  EXPECT_NE(training_report_table(ok.report).find("map_failed x1"), std::string::npos);
+  EXPECT_NE(training_report_json(ok.report).find("\"lost_by_code\""), std::string::npos);
+
+  opts.losses = losses_of("class_b", 2, "map_failed");  // 2 of 14: 14.3 % > 10 %
+  opts.losses.push_back({"z", "class_b", "off_recipe", ""});
+  try {
+    (void)train_classifier(samples, opts);
+    FAIL() << "trained although class_b lost 3 of 15 meshes";
+  } catch (const InvalidInputError& e) {
+    EXPECT_EQ(e.code(), "training_losses");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("class_b: 3 of 15 lost"), std::string::npos) << m;
+    EXPECT_NE(m.find("map_failed x2"), std::string::npos) << m;
+    EXPECT_NE(m.find("off_recipe x1"), std::string::npos) << m;
+    EXPECT_EQ(m.find("class_a:"), std::string::npos) << m;
+  }
+  opts.loss_policy.max_class_loss = 0.25;  // a configured limit
+  EXPECT_NO_THROW((void)train_classifier(samples, opts));
+  opts.loss_policy.max_class_loss = 0.1;
+  opts.loss_policy.allow_losses = true;  // told to train anyway: the report still shows the losses
+  const auto allowed = train_classifier(samples, opts);
+  EXPECT_EQ(allowed.report.losses[1].lost(), 3);
 }
 
 }  // namespace

@@ -70,10 +70,12 @@ class ConvertTest(unittest.TestCase):
 
     def test_document_shape(self) -> None:
         p = self.doc["payload"]
-        self.assertEqual((self.doc["format"], self.doc["format_version"]), ("wish-classifier", 1))
+        self.assertEqual((self.doc["format"], self.doc["format_version"]), ("wish-classifier", 2))
         self.assertEqual(p["classes"], CLASSES)
-        self.assertEqual(p["features"]["names"], ["xi_1", "xi_2", "xi_3", "xi_4", "xi_5"])
-        self.assertEqual(p["descriptor"]["sh"]["lmax"], 6)
+        self.assertEqual(p["recipe"]["features"]["names"], ["xi_1", "xi_2", "xi_3", "xi_4", "xi_5"])
+        self.assertEqual(p["recipe"]["sh"]["lmax"], 6)
+        self.assertEqual(p["recipe"]["recipe_version"], 1)
+        self.assertIn(p["recipe"]["off_recipe"], ("refuse", "accept_flagged"))
         svm = p["svm"]
         self.assertEqual(sum(svm["n_sv"]), len(svm["support_vectors"]))
         self.assertEqual(len(svm["sv_coef"]), len(CLASSES) - 1)
@@ -151,7 +153,7 @@ class ConvertTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         a, b = conv.read_model(model)["payload"], conv.read_model(converted)["payload"]
         self.assertEqual(a["svm"], b["svm"])
-        self.assertEqual(a["features"], b["features"])
+        self.assertEqual(a["recipe"]["features"], b["recipe"]["features"])
 
 
 class CanonicalJsonTest(unittest.TestCase):

@@ -200,6 +200,11 @@ class ServerApiTest(unittest.TestCase):
         self.assertIn(p["label"], model["classes"])
         self.assertAlmostEqual(sum(x["probability"] for x in p["probabilities"]), 1.0, places=3)
         self.assertEqual(p["model"]["name"], default)
+        # The map of a sphere is made by the recipe's own method: the result says so (issue 12).
+        self.assertTrue(p["recipe_match"])
+        self.assertEqual(p["method_used"], body["map"]["method"])
+        self.assertEqual(p["recipe_method"], model["descriptor_settings"]["method"])
+        self.assertIn(model["descriptor_settings"]["off_recipe"], ("refuse", "accept_flagged"))
         s = body["descriptor"]["settings"]
         self.assertEqual(s["source"], "model")
         self.assertEqual(s["lmax"], model["descriptor_settings"]["lmax"])

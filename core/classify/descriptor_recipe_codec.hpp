@@ -1,18 +1,19 @@
 #pragma once
-// Every field of DescriptorSettings (spherical-map options + SH fit options), listed ONCE in visit_settings(), so
-// that the model file writes all of them and reads all of them back: a model must reproduce the descriptor it was
-// trained on exactly (classification.md: never silently mismatched). Adding a field to SphericalMapOptions or
-// ShFitOptions means adding one line here; the round-trip test in tests/classify/model_file_test.cpp compares
-// every field through operator==.
+// Every field of DescriptorRecipe (spherical-map options, SH fit options, feature pipeline, off-recipe policy),
+// listed ONCE in visit_recipe(), so that the model file writes all of them and reads all of them back: a model
+// must reproduce the descriptor it was trained on exactly (classification.md: never silently mismatched). Adding a
+// field to SphericalMapOptions, ShFitOptions or FeatureSpec means adding one line here (and, when it changes what
+// old files mean, bumping DescriptorRecipe::kVersion); the round-trip test in tests/classify/model_file_test.cpp
+// compares every field through operator==.
 //
 // A visitor provides: field(key, double&|int&|bool&), enumeration(key, E&), and group(key, lambda) for nesting.
 
-#include "core/classify/classifier_model.hpp"
+#include "core/classify/descriptor_recipe.hpp"
 
 namespace wish {
 
-template <class Visitor, class Settings>
-void visit_settings(Visitor& v, Settings& d) {
+template <class Visitor, class Recipe>
+void visit_recipe(Visitor& v, Recipe& d) {
   v.group("map", [&](Visitor& m) {
     m.enumeration("method", d.map.method);
     m.group("willmore", [&](Visitor& w) {
@@ -61,6 +62,15 @@ void visit_settings(Visitor& v, Settings& d) {
     s.field("band_size", d.sh.band_size);
     s.enumeration("gram", d.sh.gram);
   });
+  v.group("features", [&](Visitor& f) {
+    f.enumeration("family", d.features.family);
+    f.field("l_min", d.features.l_min);
+    f.field("l_max", d.features.l_max);
+    f.enumeration("scale", d.features.scale);
+    f.field("log", d.features.log_transform);
+    f.field("global_scale_free", d.features.global_scale_free);
+  });
+  v.enumeration("off_recipe", d.off_recipe);
 }
 
 }  // namespace wish

@@ -1,0 +1,54 @@
+#include "core/classify/descriptor_recipe.hpp"
+
+#include "core/common/errors.hpp"
+
+namespace wish {
+
+const char* to_string(OffRecipePolicy policy) {
+  switch (policy) {
+    case OffRecipePolicy::Refuse: return "refuse";
+    case OffRecipePolicy::AcceptFlagged: return "accept_flagged";
+  }
+  return "refuse";
+}
+
+OffRecipePolicy off_recipe_policy_from_name(const std::string& name) {
+  if (name == "refuse") return OffRecipePolicy::Refuse;
+  if (name == "accept_flagged") return OffRecipePolicy::AcceptFlagged;
+  throw InvalidInputError("invalid_parameter",
+                          "unknown off-recipe policy '" + name + "' (expected refuse | accept_flagged)");
+}
+
+void validate_recipe(const DescriptorRecipe& r, const std::string& code) {
+  if (r.sh.lmax < 0 || r.sh.lmax > 100)
+    throw InvalidInputError(code, "recipe sh.lmax " + std::to_string(r.sh.lmax) + " is out of range 0..100");
+  if (r.features.l_min < 0 || r.features.l_min > r.features.l_max)
+    throw InvalidInputError(code, "recipe features use xi(" + std::to_string(r.features.l_min) + ".." +
+                                      std::to_string(r.features.l_max) + "), an empty or negative range");
+  if (r.uses_invariants() && r.features.l_max > r.sh.lmax)
+    throw InvalidInputError(code, "recipe features use xi(" + std::to_string(r.features.l_max) +
+                                      ") but descriptors are fitted up to Lmax " + std::to_string(r.sh.lmax));
+}
+
+RecipeConformance check_recipe(const DescriptorRecipe& recipe, const SphericalMapResult& map) {
+  RecipeConformance c;
+  c.recipe_method = recipe.map.method;
+  c.method_used = map.method_used;
+  c.attempts = static_cast<int>(map.attempts.size());
+  c.match = map.method_used == recipe.map.method;
+  return c;
+}
+
+void enforce_recipe_policy(const DescriptorRecipe& recipe, const RecipeConformance& c, const std::string& model_name) {
+  if (c.match || recipe.off_recipe == OffRecipePolicy::AcceptFlagged) return;
+  const std::string used = to_string(c.method_used), wanted = to_string(c.recipe_method);
+  throw WishError(ErrorCategory::Unmappable, "off_recipe",
+                  "the spherical map was made by the " + used + " fallback, but model '" + model_name +
+                      "' was trained on " + wanted + " maps and its policy refuses other methods (off_recipe: refuse)",
+                  {{"method_used", used},
+                   {"recipe_method", wanted},
+                   {"attempts", static_cast<std::int64_t>(c.attempts)},
+                   {"model", model_name}});
+}
+
+}  // namespace wish

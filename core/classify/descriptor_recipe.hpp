@@ -1,0 +1,71 @@
+#pragma once
+// The descriptor recipe (issue 12): everything that changes the feature vector a model sees, in one versioned,
+// typed value — the spherical-map method and all its options, the SH fit (Lmax, nu, weighting, solver), the feature
+// pipeline (which xi(l), scale normalisation, log, feature family) — plus the model's policy for a descriptor whose
+// map came from another method than the recipe's (a fallback attempt of the chain). The CLI builds it from its
+// flags, the model file stores it (model_file.cpp, format version 2), the pipeline and the server compute with it
+// and check every result against it (check_recipe): a descriptor computed another way is never fed to a model
+// silently — it is refused, or accepted with recipe_match = false in the result, as the model's policy says.
+
+#include <string>
+
+#include "core/sh/sh_descriptor.hpp"
+#include "core/spherical_map/spherical_map.hpp"
+
+namespace wish {
+
+enum class FeatureFamily { Invariants, Global, Combined };
+enum class ScaleNormalization { None, ByFirstInvariant, ByArea };  // xi(l)/xi(1), or xi(l)/surface area
+
+struct FeatureSpec {
+  FeatureFamily family = FeatureFamily::Invariants;
+  int l_min = 1, l_max = 5;                 // which xi(l) are used (inclusive)
+  ScaleNormalization scale = ScaleNormalization::None;
+  bool log_transform = false;               // log(x) of the (normalised) energies
+  bool global_scale_free = false;           // Global/Combined: only the scale-free global descriptors
+  bool operator==(const FeatureSpec&) const = default;
+};
+
+// What to do with a descriptor whose map was made by another method than the recipe's (the fallback chain ended
+// on cMCF or the linear map for a Willmore recipe, ...): its xi are on another scale of Möbius/area distortion, so
+// the SVM was not trained on such vectors.
+enum class OffRecipePolicy {
+  Refuse,         // classify: error "off_recipe" (422); training: the mesh is counted as refused
+  AcceptFlagged,  // classify: predict, with recipe_match = false in the result; training: kept, counted as flagged
+};
+const char* to_string(OffRecipePolicy policy);                    // "refuse" | "accept_flagged"
+OffRecipePolicy off_recipe_policy_from_name(const std::string& name);  // throws InvalidInputError
+
+struct DescriptorRecipe {
+  // Version of the recipe's content (fields and their meaning); stored in the model file next to the recipe.
+  static constexpr int kVersion = 1;
+  SphericalMapOptions map;   // method, fallback chain switch, flow parameters, verification bounds
+  ShFitOptions sh;           // lmax, regularization nu, weighting, solver
+  FeatureSpec features;      // xi(l_min..l_max), scale normalisation, log, family
+  OffRecipePolicy off_recipe = OffRecipePolicy::Refuse;
+  bool operator==(const DescriptorRecipe&) const = default;
+
+  // ByArea normalisation needs the mesh area, which is one of the global descriptors.
+  bool needs_global_features() const {
+    return features.family != FeatureFamily::Invariants || features.scale == ScaleNormalization::ByArea;
+  }
+  bool uses_invariants() const { return features.family != FeatureFamily::Global; }
+};
+
+// Throws InvalidInputError(code, ...) when the parts disagree (features use xi(l) above sh.lmax, bad l range).
+void validate_recipe(const DescriptorRecipe& recipe, const std::string& code = "invalid_recipe");
+
+// How one computed descriptor relates to a recipe.
+struct RecipeConformance {
+  bool match = true;                      // the map was made by the recipe's method
+  MapMethod recipe_method = MapMethod::Willmore;
+  MapMethod method_used = MapMethod::Willmore;
+  int attempts = 1;                       // attempts of the map chain (1: the first attempt gave the map)
+};
+RecipeConformance check_recipe(const DescriptorRecipe& recipe, const SphericalMapResult& map);
+
+// Throws WishError(Unmappable, "off_recipe", ...) naming both methods when `c` does not match and the policy
+// refuses; otherwise returns.
+void enforce_recipe_policy(const DescriptorRecipe& recipe, const RecipeConformance& c, const std::string& model_name);
+
+}  // namespace wish
