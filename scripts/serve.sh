@@ -9,7 +9,7 @@ models=${WISH_MODELS:-data/models}
 
 bash scripts/install-deps.sh
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build/release -j "$(nproc)" --target wish
+cmake --build build/release -j "$(getconf _NPROCESSORS_ONLN)" --target wish
 
 example=data/meshes/celegans_cell.obj
 

@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
-jobs=$(nproc)
+jobs=$(getconf _NPROCESSORS_ONLN)   # not nproc: it follows OMP_NUM_THREADS
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1   # tests run in parallel: no nested threading
 fuzz_seconds=${WISH_FUZZ_SECONDS:-30}
 
@@ -46,11 +46,11 @@ step "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|python" -E "Sweep|Slow" --timeout 900
 
-step "release tests"
-ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 1200
-
 step "Slurm batch runner on a single-node Slurm (scripts/test-slurm.sh)"
 WISH_BIN="$root/build/release/cli/wish" bash scripts/test-slurm.sh
 
 step "container image: build and end-to-end tests (scripts/test-docker.sh)"
 bash scripts/test-docker.sh
+
+step "release tests"
+ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 1200
