@@ -12,7 +12,6 @@ runtime_build=(
   zlib1g-dev libtiff-dev libopenmesh-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3
-  nodejs npm
 )
 test_extra=(
   clang libclang-rt-14-dev
@@ -26,6 +25,10 @@ test_extra=(
 
 want=("${runtime_build[@]}")
 if [[ "${1:-}" == "--test" ]]; then want+=("${test_extra[@]}"); fi
+
+# Node.js and npm build the web page's assets. A machine that already has them (e.g. a newer Node.js whose package
+# bundles npm) keeps them: Debian's `npm` package would conflict with such a `nodejs`.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then want+=(nodejs npm); fi
 
 missing=()
 for p in "${want[@]}"; do
