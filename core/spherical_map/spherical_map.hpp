@@ -142,7 +142,7 @@ struct SphericalMapOptions {
   // Added: soft time budget of the FLOW attempts, in seconds per 10,000 vertices (at least this many seconds).
   // When it has passed, the running flow stops (FlowStop::TimeBudget, its map still verified) and only the cheap
   // linear attempts of the chain run; 0 = no budget. The request deadline (Deadline) is separate and hard.
-  double flow_budget_seconds = 2.0;
+  double flow_budget_seconds = 4.0;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 
