@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
           const SphericalMapResult map = compute_spherical_map(prepared->mesh, mo, Deadline::after(std::chrono::duration<double>(map_seconds)));
           out.seconds = seconds_since(t);
           if (!map.ok()) {
-            out.failure = map.failed_check.empty() ? std::string(to_string(map.status)) : map.failed_check;
+            out.failure = map.failed_check == MapCheck::None ? std::string(to_string(map.status)) : std::string(to_string(map.failed_check));
           } else {
             for (double nu : nu_factors)
               for (int lmax : lmaxes) {

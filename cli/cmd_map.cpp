@@ -13,6 +13,7 @@
 #include "core/common/deadline.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/spherical_map/spherical_map.hpp"
+#include "server/wire_json.hpp"
 #include "core/validation/mesh_report.hpp"
 
 namespace wish::cli {
@@ -49,7 +50,7 @@ nlohmann::json result_json(const SphericalMapResult& r, const PreparedMesh& prep
                        {"eigen_residual", s.eigen_residual}, {"accepted", s.accepted}, {"seconds", s.seconds},
                        {"note", s.note}});
     attempts.push_back({{"method", to_string(a.method)}, {"filtered", a.filtered}, {"max_steps", a.max_steps},
-                        {"status", to_string(a.status)}, {"failed_check", a.failed_check}, {"message", a.message},
+                        {"status", to_string(a.status)}, {"failed_check", to_string(a.failed_check)}, {"stop", to_string(a.stop)}, {"message", a.message},
                         {"quality", quality_json(a.quality)}, {"steps", steps}, {"seconds", a.seconds},
                         {"map_verified", a.map_verified}});
   }
@@ -61,7 +62,9 @@ nlohmann::json result_json(const SphericalMapResult& r, const PreparedMesh& prep
           {"faces", prepared.mesh.face_count()},
           {"repairs", repairs},
           {"status", to_string(r.status)},
-          {"failed_check", r.failed_check},
+          {"failed_check", to_string(r.failed_check)},
+          {"verdict", to_string(r.verdict)},
+          {"operator", server::map_operator_json(r.operator_stats)},
           {"method", to_string(r.method_used)},
           {"quality", quality_json(r.quality)},
           {"attempts", attempts},
@@ -75,12 +78,16 @@ void print_text(const SphericalMapResult& r, const PreparedMesh& prepared, const
   for (const RepairAction& a : prepared.repairs) std::cout << "repair     " << a.message << "\n";
   for (const MapAttempt& a : r.attempts) {
     std::cout << "attempt    " << to_string(a.method) << (a.filtered ? " (filtered)" : "") << ", " << a.steps.size()
-              << " step(s), " << to_string(a.status) << (a.failed_check.empty() ? "" : " [" + a.failed_check + "]")
+              << " step(s), " << to_string(a.status) << (a.failed_check == MapCheck::None ? "" : std::string(" [") + to_string(a.failed_check) + "]")
               << ", " << a.seconds << " s\n";
     if (!a.message.empty()) std::cout << "           " << a.message << "\n";
   }
   const MapQuality& q = r.quality;
-  std::cout << "status     " << to_string(r.status) << (r.failed_check.empty() ? "" : " [" + r.failed_check + "]") << "\n"
+  std::cout << "status     " << to_string(r.status) << (r.failed_check == MapCheck::None ? "" : std::string(" [") + to_string(r.failed_check) + "]") << "\n"
+            << "verdict    " << to_string(r.verdict) << "\n"
+            << "operator   " << geometry::to_string(r.operator_stats.kind) << ": epsilon " << r.operator_stats.epsilon
+            << " (" << r.operator_stats.zero_area_faces << " zero-area faces), " << r.operator_stats.negative_weights_before
+            << " negative weights before, " << r.operator_stats.flips << " flips\n"
             << "method     " << to_string(r.method_used) << "\n"
             << "flips      " << q.flipped_faces << "  degenerate " << q.degenerate_faces << "  degree " << q.degree
             << "  repaired vertices " << q.repaired_vertices << "\n"
@@ -128,7 +135,7 @@ CommandRunner setup_map(CLI::App& sub) {
       print_text(result, prepared, *args);
     if (!result.ok()) {
       std::cerr << "wish map: the map failed verification (" << to_string(result.status) << ", "
-                << result.failed_check << "); nothing written\n";
+                << to_string(result.failed_check) << "); nothing written\n";
       return kExitInvalid;
     }
     return kExitOk;

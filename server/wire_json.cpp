@@ -52,6 +52,7 @@ nlohmann::json mesh_report_json(const MeshReport& r) {
           {"euler_characteristic", r.euler_characteristic},
           {"genus", r.genus ? nlohmann::json(*r.genus) : nlohmann::json(nullptr)},
           {"degenerate_faces", r.degenerate_faces},
+          {"zero_area_faces", r.zero_area_faces},
           {"duplicate_faces", r.duplicate_faces},
           {"unreferenced_vertices", r.unreferenced_vertices},
           {"duplicate_vertices", r.duplicate_vertices},
@@ -81,14 +82,28 @@ nlohmann::json map_quality_json(const MapQuality& q) {
           {"conformal_max", json_number(q.conformal_max)},
           {"area_distortion", json_number(q.area_distortion)},
           {"roundness", json_number(q.roundness)},
-          {"mobius_centroid", json_number(q.mobius_centroid)}};
+          {"mobius_centroid", json_number(q.mobius_centroid)},
+          {"verdict", to_string(q.verdict)}};
+}
+
+nlohmann::json map_operator_json(const geometry::IntrinsicStats& s) {
+  return {{"laplacian", geometry::to_string(s.kind)},
+          {"mollify_epsilon", json_number(s.epsilon)},
+          {"mollify_relative_epsilon", json_number(s.relative_epsilon)},
+          {"zero_area_faces", s.zero_area_faces},
+          {"mollified_faces", s.mollified_faces},
+          {"negative_weights_before", s.negative_weights_before},
+          {"negative_weights_after", s.negative_weights_after},
+          {"flips", s.flips},
+          {"flip_cap_hit", s.flip_cap_hit}};
 }
 
 nlohmann::json map_attempt_json(const MapAttempt& a) {
   nlohmann::json out{{"method", to_string(a.method)}, {"filtered", a.filtered},
                      {"max_steps", a.max_steps},      {"status", to_string(a.status)},
                      {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)}};
-  if (!a.failed_check.empty()) out["failed_check"] = a.failed_check;
+  if (a.failed_check != MapCheck::None) out["failed_check"] = to_string(a.failed_check);
+  out["stop"] = to_string(a.stop);
   if (!a.message.empty()) out["message"] = a.message;
   return out;
 }
@@ -96,8 +111,10 @@ nlohmann::json map_attempt_json(const MapAttempt& a) {
 nlohmann::json map_block_json(const SphericalMapResult& map, bool quality) {
   nlohmann::json out{{"method", to_string(map.method_used)},
                      {"status", to_string(map.status)},
+                     {"verdict", to_string(map.verdict)},
                      {"seconds", json_number(map.seconds)}};
   if (quality) {
+    out["operator"] = map_operator_json(map.operator_stats);
     out["quality"] = map_quality_json(map.quality);
     out["attempts"] = nlohmann::json::array();
     for (const auto& a : map.attempts) out["attempts"].push_back(map_attempt_json(a));

@@ -36,6 +36,7 @@ nlohmann::json issue_json(const ValidationIssue& issue);            // {"code", 
 
 nlohmann::json map_quality_json(const MapQuality& quality);         // MapQuality
 nlohmann::json map_attempt_json(const MapAttempt& attempt);         // MapAttempt
+nlohmann::json map_operator_json(const geometry::IntrinsicStats& stats);  // the operator of a map: mollification, flips
 // MapBlock: {"method", "status", "seconds"} and, with `quality`, "quality" and "attempts".
 nlohmann::json map_block_json(const SphericalMapResult& map, bool quality);
 

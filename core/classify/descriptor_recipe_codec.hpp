@@ -6,7 +6,8 @@
 // old files mean, bumping DescriptorRecipe::kVersion); the round-trip test in tests/classify/model_file_test.cpp
 // compares every field through operator==.
 //
-// A visitor provides: field(key, double&|int&|bool&), enumeration(key, E&), and group(key, lambda) for nesting.
+// A visitor provides: field(key, double&|int&|bool&), enumeration(key, E&), group(key, lambda) for nesting, and
+// legacy_field(key, value&, legacy) / legacy_group(key, lambda, target&, legacy) for fields that older files lack.
 
 #include "core/classify/descriptor_recipe.hpp"
 
@@ -52,7 +53,17 @@ void visit_recipe(Visitor& v, Recipe& d) {
       q.field("degenerate_height", d.map.verification.degenerate_height);
       q.field("degenerate_area", d.map.verification.degenerate_area);
       q.field("max_conformal_p99", d.map.verification.max_conformal_p99);
+      // Fields added after models were first written carry their LEGACY value (how those models' descriptors were
+      // computed) for files that lack them: the old verification refused distorted maps, the old operator was the
+      // extrinsic cotan Laplacian, the old chain had no time budget.
+      q.legacy_field("strict_conformal_bound", d.map.verification.strict_conformal_bound, true);
     });
+    m.legacy_group("laplacian", [&](Visitor& l) {
+      l.enumeration("kind", d.map.laplacian.kind);
+      l.field("mollify_delta", d.map.laplacian.mollify_delta);
+      l.field("max_flips_per_edge", d.map.laplacian.max_flips_per_edge);
+    }, d.map.laplacian, geometry::IntrinsicOptions{geometry::LaplacianKind::Extrinsic});
+    m.legacy_field("flow_budget_seconds", d.map.flow_budget_seconds, 0.0);
   });
   v.group("sh", [&](Visitor& s) {
     s.field("lmax", d.sh.lmax);

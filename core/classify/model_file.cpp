@@ -102,6 +102,8 @@ struct SettingsWriter {
     SettingsWriter sub{out[key]};
     fill(sub);
   }
+  template <class T> void legacy_field(const char* key, const T& value, const T&) { field(key, value); }
+  template <class F, class T> void legacy_group(const char* key, F&& fill, const T&, const T&) { group(key, fill); }
 };
 
 // Reads every field listed by visit_recipe(); a missing or mistyped field is refused with its path.
@@ -123,6 +125,14 @@ struct SettingsReader {
     SettingsReader sub{field_of(key), where + "." + key};
     fill(sub);
   }
+  template <class T> void legacy_field(const char* key, T& value, const T& legacy) {
+    if (in.is_object() && !in.contains(key)) value = legacy;
+    else field(key, value);
+  }
+  template <class F, class T> void legacy_group(const char* key, F&& fill, T& target, const T& legacy) {
+    if (in.is_object() && !in.contains(key)) target = legacy;
+    else group(key, fill);
+  }
 
  private:
   const json& field_of(const char* key) { return wish::field(in, key, where); }
@@ -136,6 +146,9 @@ struct SettingsReader {
     return scale_normalization_from_name(n);
   }
   static OffRecipePolicy enum_from_name(const std::string& n, OffRecipePolicy) { return off_recipe_policy_from_name(n); }
+  static geometry::LaplacianKind enum_from_name(const std::string& n, geometry::LaplacianKind) {
+    return geometry::laplacian_kind_from_name(n.c_str());
+  }
 };
 
 json recipe_to_json(const DescriptorRecipe& r) {

@@ -23,11 +23,11 @@ double seconds_since(Clock::time_point start) {
 void require_verified_map(const SphericalMapResult& map) {
   if (map.ok()) return;
   const MapAttempt* last = map.attempts.empty() ? nullptr : &map.attempts.back();
-  std::string message = "the spherical map failed verification (" + map.failed_check + ")";
+  std::string message = std::string("the spherical map failed verification (") + to_string(map.failed_check) + ")";
   if (last && !last->message.empty()) message += ": " + last->message;
   message += " after " + std::to_string(map.attempts.size()) + " attempt(s)";
   throw WishError(ErrorCategory::Unmappable, "map_failed", message,
-                  {{"check", map.failed_check},
+                  {{"check", std::string(to_string(map.failed_check))},
                    {"status", std::string(to_string(map.status))},
                    {"attempts", static_cast<std::int64_t>(map.attempts.size())},
                    {"flipped_faces", static_cast<std::int64_t>(map.quality.flipped_faces)},

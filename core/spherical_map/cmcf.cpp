@@ -5,23 +5,33 @@
 
 #include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
+#include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/geometry/mass_matrix.hpp"
 #include "core/geometry/mean_curvature.hpp"
 #include "core/geometry/roundness.hpp"
-#include "core/geometry/vertex_pattern.hpp"
+#include "core/geometry/vertex_normals.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 
 namespace wish::spherical {
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Willmore energy for the step trace, from the mollified operator (finite on zero-area faces).
+double robust_willmore_energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces,
+                              const geometry::IntrinsicOptions& laplacian) {
+  geometry::IntrinsicOptions o = laplacian;
+  if (o.kind == geometry::LaplacianKind::IntrinsicDelaunay) o.kind = geometry::LaplacianKind::Mollified;
+  const geometry::IntrinsicOperator op = geometry::intrinsic_operator(x, faces, o);
+  return geometry::willmore_energy(geometry::mean_curvature(x, op.laplacian, op.mass, geometry::vertex_normals(x, faces)),
+                                   op.mass);
+}
 }  // namespace
 
 FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverKind solver_kind,
-                     const Deadline& deadline) {
+                     const geometry::IntrinsicOptions& laplacian, const Deadline& deadline, const Deadline& budget) {
   FlowResult result;
   const Eigen::MatrixX3i& faces = mesh.faces;
-  const geometry::VertexPattern pattern = geometry::build_vertex_pattern(mesh.vertex_count(), faces);
   linalg::CholeskyOptions copt;
   copt.backend = solver_kind == LinearSolverKind::Cholmod ? linalg::CholeskyBackend::Cholmod
                                                           : linalg::CholeskyBackend::EigenSimplicial;
@@ -29,30 +39,44 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
 
   Eigen::MatrixX3d x = mesh.vertices;
   normalise_area_and_centre(x, faces);
-  Eigen::SparseMatrix<double> l0 = pattern.pattern;
-  geometry::assemble_cotan_laplacian(pattern, faces, geometry::corner_cotangents(x, faces), l0);
-  Eigen::VectorXd mass = geometry::lumped_mass(x, faces);
-  result.initial_energy = result.energy = geometry::willmore_energy(x, faces);
+  // L₀: the intrinsic operator of the input (mollified, intrinsic Delaunay: nonnegative weights, so the implicit
+  // step is an M-matrix solve). M_t: lumped mass from mollified face areas of the current surface (positions are
+  // extrinsic by nature: the flow moves them).
+  geometry::IntrinsicOperator op = geometry::intrinsic_operator(x, faces, laplacian);
+  result.operator_stats = op.stats;
+  const Eigen::SparseMatrix<double> l0 = std::move(op.laplacian);
+  Eigen::SparseMatrix<double> mass_matrix(x.rows(), x.rows());
+  mass_matrix.setIdentity();
+  Eigen::VectorXd mass = op.mass;
+  result.initial_energy = result.energy = robust_willmore_energy(x, faces, laplacian);
   result.initial_roundness = result.roundness = geometry::roundness(x, mass);
   result.vertices = x;
   Eigen::SparseMatrix<double> system;
   bool converged = result.roundness < options.roundness_tolerance;
   for (int step = 1; step <= options.max_steps && !converged; ++step) {
     deadline.check("cmcf step");
+    if (budget.expired()) {  // soft budget of the chain: keep the surface so far, verified as it is
+      result.status = MapStatus::NotConverged;
+      result.failed_check = MapCheck::TimeBudget;
+      result.stop = FlowStop::TimeBudget;
+      result.message = "cMCF time budget spent after " + std::to_string(step - 1) + " steps at roundness " +
+                       std::to_string(result.roundness);
+      return result;
+    }
     const Clock::time_point t_step = Clock::now();
     FlowStepRecord rec;
     rec.step = step;
     rec.tau = options.delta;
-    system = l0;
-    system *= options.delta;
-    for (Eigen::Index i = 0; i < mass.size(); ++i) system.valuePtr()[pattern.diagonal[static_cast<size_t>(i)]] += mass[i];
+    mass_matrix.diagonal() = mass;
+    system = options.delta * l0 + mass_matrix;  // same pattern every step: symbolic analysis once
     Clock::time_point t0 = Clock::now();
     if (!solver.factorize(system)) {
       rec.accepted = false;
       rec.note = solver.message();
       result.steps.push_back(rec);
       result.status = MapStatus::SolverFailed;
-      result.failed_check = "solver";
+      result.failed_check = MapCheck::Solver;
+      result.stop = FlowStop::SolverFailed;
       result.message = "cMCF step " + std::to_string(step) + ": " + solver.message();
       return result;
     }
@@ -62,20 +86,21 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
     normalise_area_and_centre(next, faces);
     rec.poisson_seconds = seconds_since(t0);
     t0 = Clock::now();
-    const Eigen::VectorXd areas = geometry::face_areas(next, faces);
-    if (!next.allFinite() || !(areas.minCoeff() > 0)) {
+    const Eigen::VectorXd areas = geometry::mollified_face_areas(next, faces, laplacian.mollify_delta);
+    if (!next.allFinite() || !areas.allFinite()) {
       rec.accepted = false;
       rec.note = "non_finite";
       result.steps.push_back(rec);
       result.status = MapStatus::SolverFailed;
-      result.failed_check = "non_finite";
-      result.message = "cMCF step " + std::to_string(step) + " produced non-finite or zero-area faces";
+      result.failed_check = MapCheck::NonFinite;
+      result.stop = FlowStop::NonFinite;
+      result.message = "cMCF step " + std::to_string(step) + " produced non-finite positions";
       return result;
     }
     x = std::move(next);
     mass = geometry::lumped_mass(faces, areas, x.rows());
     rec.roundness = geometry::roundness(x, mass);
-    rec.energy = geometry::willmore_energy(x, faces);
+    rec.energy = robust_willmore_energy(x, faces, laplacian);
     rec.geometry_seconds = seconds_since(t0);
     rec.seconds = seconds_since(t_step);
     result.steps.push_back(rec);
@@ -88,13 +113,16 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
         previous - rec.roundness < options.roundness_stall * previous) {
       // Stalled: R no longer falls (Kazhdan et al. run to this point); judged by verification like a plateau.
       result.message = "stalled: roundness " + std::to_string(rec.roundness) + " after " + std::to_string(step) + " steps";
+      result.stop = FlowStop::RoundnessPlateau;
       return result;
     }
   }
+  if (converged) result.stop = FlowStop::Converged;
   if (!converged) {
     result.hit_step_cap = true;
     result.status = MapStatus::NotConverged;
-    result.failed_check = "roundness";
+    result.failed_check = MapCheck::Roundness;
+    result.stop = FlowStop::StepCap;
     result.message = "cMCF roundness " + std::to_string(result.roundness) + " above tolerance " +
                      std::to_string(options.roundness_tolerance) + " after " + std::to_string(options.max_steps) +
                      " steps";

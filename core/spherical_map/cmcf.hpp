@@ -14,7 +14,9 @@
 
 namespace wish::spherical {
 
+// `laplacian`: the operator behind L₀ and M_t (intrinsic_laplacian.hpp).
 FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverKind solver,
-                     const Deadline& deadline = {});
+                     const geometry::IntrinsicOptions& laplacian = {}, const Deadline& deadline = {},
+                     const Deadline& budget = {});  // budget: soft limit, stops with FlowStop::TimeBudget
 
 }  // namespace wish::spherical

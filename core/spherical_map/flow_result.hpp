@@ -15,12 +15,14 @@ struct FlowResult {
   Eigen::MatrixX3d vertices;
   std::vector<FlowStepRecord> steps;  // accepted and rejected, in order
   MapStatus status = MapStatus::Ok;   // Ok (a stopping criterion was met), NotConverged or SolverFailed
-  std::string failed_check;           // "roundness", "energy", "eigen_residual", "solver", "non_finite", ...
+  MapCheck failed_check = MapCheck::None;
+  FlowStop stop = FlowStop::None;
   std::string message;
   double initial_energy = 0, energy = 0;  // Willmore energy Σ M_i H_i² before / after
   double initial_roundness = 0, roundness = 0;
   bool on_sphere = false;             // vertices are already the sphere map (linear method): no radial projection
   bool hit_step_cap = false;          // ran out of steps while still improving (so "more steps" may help)
+  geometry::IntrinsicStats operator_stats;  // the Laplacian of the input (or first) surface: repairs, flips
 };
 
 // Centre `x` on its area-weighted centroid and scale it to total area 4π (so the flow's limit is the unit sphere).

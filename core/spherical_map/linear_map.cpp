@@ -5,10 +5,15 @@
 #include <cmath>
 #include <limits>
 #include <vector>
+#include <array>
+#include <cstdint>
+#include <set>
+#include <unordered_map>
 
 #include <Eigen/SparseCore>
 
 #include "core/geometry/face_geometry.hpp"
+#include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/geometry/vertex_pattern.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 
@@ -19,10 +24,12 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Most equilateral face: smallest longest/shortest edge ratio; ties go to the larger face.
-Eigen::Index big_triangle(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces) {
+template <class Eligible>
+Eigen::Index big_triangle(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces, Eligible eligible) {
   Eigen::Index best = 0;
   double best_ratio = std::numeric_limits<double>::infinity(), best_len = 0;
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    if (!eligible(f)) continue;
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
     for (int k = 0; k < 3; ++k) {
       const double l = (x.row(faces(f, (k + 1) % 3)) - x.row(faces(f, k))).norm();
@@ -41,7 +48,8 @@ Eigen::Index big_triangle(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& fac
 
 }  // namespace
 
-FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearSolverKind solver_kind) {
+FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearSolverKind solver_kind,
+                      const geometry::IntrinsicOptions& laplacian) {
   const Clock::time_point t_start = Clock::now();
   FlowResult result;
   result.on_sphere = true;
@@ -50,7 +58,7 @@ FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearS
   const Eigen::MatrixX3d& x = mesh.vertices;
   const Eigen::MatrixX3i& faces = mesh.faces;
   const Eigen::Index nv = x.rows();
-  auto fail = [&](const std::string& check, const std::string& message) {
+  auto fail = [&](MapCheck check, const std::string& message) {
     result.status = MapStatus::SolverFailed;
     result.failed_check = check;
     result.message = message;
@@ -62,45 +70,61 @@ FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearS
     return result;
   };
 
-  // 1. The puncture.
-  const Eigen::Index t = big_triangle(x, faces);
+  // The operator: intrinsic Delaunay weights (all ≥ 0) on its own edge set; the mesh's own edges with mollified
+  // cotangents for the clamped (Tutte/Floater) variant, whose embedding guarantee is about the mesh's own faces.
+  const geometry::IntrinsicOperator op = geometry::intrinsic_operator(x, faces, laplacian);
+  result.operator_stats = op.stats;
+
+  // 1. The puncture: the most equilateral input face that is also a face of the intrinsic triangulation (so that
+  // removing it from either edge set leaves the same disk).
+  std::set<std::array<int, 3>> intrinsic_faces;
+  for (Eigen::Index f = 0; f < op.faces.rows(); ++f) {
+    std::array<int, 3> key{op.faces(f, 0), op.faces(f, 1), op.faces(f, 2)};
+    std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+    intrinsic_faces.insert(key);
+  }
+  const Eigen::Index t = big_triangle(x, faces, [&](Eigen::Index f) {
+    std::array<int, 3> key{faces(f, 0), faces(f, 1), faces(f, 2)};
+    std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+    return intrinsic_faces.count(key) > 0;
+  });
   const int a = faces(t, 0), b = faces(t, 1), c = faces(t, 2);
 
-  // 2. Edge weights ½(cot α + cot β) of the mesh without T, on the vertex pattern, clamped from below.
-  const geometry::VertexPattern pattern = geometry::build_vertex_pattern(nv, faces);
-  const Eigen::MatrixX3d cot = geometry::corner_cotangents(x, faces);
-  std::vector<double> w(static_cast<size_t>(pattern.pattern.nonZeros()), 0.0);
+  // 2. Edge weights without T's three corners, as (i, j, w) lists.
+  auto pair_key = [](int i, int j) {
+    return (static_cast<std::uint64_t>(std::min(i, j)) << 32) | static_cast<std::uint32_t>(std::max(i, j));
+  };
+  std::unordered_map<std::uint64_t, double> t_part;  // ½ cot of T's corners, per edge of T
+  for (int k = 0; k < 3; ++k)
+    t_part[pair_key(faces(t, (k + 1) % 3), faces(t, (k + 2) % 3))] += 0.5 * op.input_cotangents(t, k);
+  std::vector<geometry::IntrinsicEdgeWeight> w_intrinsic = op.edges;
+  for (auto& e : w_intrinsic)
+    if (const auto it = t_part.find(pair_key(e.i, e.j)); it != t_part.end()) e.weight = std::max(0.0, e.weight - it->second);
+  std::unordered_map<std::uint64_t, double> own;
+  own.reserve(static_cast<size_t>(3 * faces.rows()));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     if (f == t) continue;
-    const auto& slot = pattern.slot[static_cast<size_t>(f)];
-    for (int k = 0; k < 3; ++k) {
-      const int i = (k + 1) % 3, j = (k + 2) % 3;
-      const double half_cot = 0.5 * cot(f, k);
-      w[static_cast<size_t>(slot[static_cast<size_t>(3 * i + j)])] += half_cot;
-      w[static_cast<size_t>(slot[static_cast<size_t>(3 * j + i)])] += half_cot;
-    }
+    for (int k = 0; k < 3; ++k)
+      own[pair_key(faces(f, (k + 1) % 3), faces(f, (k + 2) % 3))] += 0.5 * op.input_cotangents(f, k);
   }
   double mean_abs = 0;
-  long count = 0;
-  for (Eigen::Index col = 0; col < nv; ++col)
-    for (int p = pattern.pattern.outerIndexPtr()[col]; p < pattern.pattern.outerIndexPtr()[col + 1]; ++p)
-      if (pattern.pattern.innerIndexPtr()[p] != col && std::isfinite(w[static_cast<size_t>(p)])) {
-        mean_abs += std::abs(w[static_cast<size_t>(p)]);
-        ++count;
-      }
-  mean_abs = count > 0 ? mean_abs / static_cast<double>(count) : 1.0;
+  for (const auto& [key, w] : own) mean_abs += std::abs(w);
+  mean_abs = own.empty() ? 1.0 : mean_abs / static_cast<double>(own.size());
   const double w_min = options.min_weight * mean_abs;
-  std::vector<double> w_clamped = w;
+  std::vector<geometry::IntrinsicEdgeWeight> w_clamped;
+  w_clamped.reserve(own.size());
   long clamped = 0;
-  for (Eigen::Index col = 0; col < nv; ++col)
-    for (int p = pattern.pattern.outerIndexPtr()[col]; p < pattern.pattern.outerIndexPtr()[col + 1]; ++p) {
-      if (pattern.pattern.innerIndexPtr()[p] == col) continue;
-      double& wp = w_clamped[static_cast<size_t>(p)];
-      if (!std::isfinite(w[static_cast<size_t>(p)])) w[static_cast<size_t>(p)] = w_min;  // degenerate input corner
-      if (!(wp >= w_min)) {
-        wp = w_min;
-        ++clamped;
-      }
+  for (const auto& [key, w] : own) {
+    const bool raise = !(w >= w_min);
+    clamped += raise;
+    w_clamped.push_back({static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), raise ? w_min : w});
+  }
+  // Zero intrinsic weights (cocircular quads) are raised too: Tutte needs every weight positive.
+  long raised = 0;
+  for (auto& e : w_intrinsic)
+    if (!(e.weight >= w_min)) {
+      e.weight = w_min;
+      ++raised;
     }
 
   // Boundary: a planar triangle similar to T, clockwise (a, b, c), so the disk bounded by a → c → b is CCW.
@@ -130,28 +154,24 @@ FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearS
                                                           : linalg::CholeskyBackend::EigenSimplicial;
   linalg::SparseCholesky solver(copt);
   // Harmonic extension of the boundary with edge weights `weights`; false if the system is not definite.
-  auto solve_plane = [&](const std::vector<double>& weights, Eigen::MatrixX2d& z) {
+  auto solve_plane = [&](const std::vector<geometry::IntrinsicEdgeWeight>& weights, Eigen::MatrixX2d& z) {
     std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<size_t>(pattern.pattern.nonZeros()));
+    triplets.reserve(2 * weights.size() + static_cast<size_t>(ni));
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ni, 2);
-    for (Eigen::Index col = 0; col < nv; ++col) {
-      const int jc = index[static_cast<size_t>(col)];
-      if (jc < 0) continue;
-      double diag = 0;
-      for (int p = pattern.pattern.outerIndexPtr()[col]; p < pattern.pattern.outerIndexPtr()[col + 1]; ++p) {
-        const int row = pattern.pattern.innerIndexPtr()[p];
-        if (row == col) continue;
-        const double wp = weights[static_cast<size_t>(p)];
-        diag += wp;
-        const int ir = index[static_cast<size_t>(row)];
-        if (ir >= 0) {
-          if (ir >= jc) triplets.emplace_back(ir, jc, -wp);  // lower triangle is what the Cholesky reads
-        } else {
-          rhs.row(jc) += wp * zb.row(boundary_slot(row));
-        }
+    Eigen::VectorXd diag = Eigen::VectorXd::Zero(ni);
+    for (const auto& e : weights) {
+      const int ii = index[static_cast<size_t>(e.i)], ij = index[static_cast<size_t>(e.j)];
+      if (ii >= 0) diag[ii] += e.weight;
+      if (ij >= 0) diag[ij] += e.weight;
+      if (ii >= 0 && ij >= 0) {
+        triplets.emplace_back(std::max(ii, ij), std::min(ii, ij), -e.weight);  // lower triangle is what is read
+      } else if (ii >= 0) {
+        rhs.row(ii) += e.weight * zb.row(boundary_slot(e.j));
+      } else if (ij >= 0) {
+        rhs.row(ij) += e.weight * zb.row(boundary_slot(e.i));
       }
-      triplets.emplace_back(jc, jc, diag);
     }
+    for (int i = 0; i < ni; ++i) triplets.emplace_back(i, i, diag[i]);
     Eigen::SparseMatrix<double> system(ni, ni);
     system.setFromTriplets(triplets.begin(), triplets.end());
     system.makeCompressed();
@@ -179,18 +199,21 @@ FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearS
     }
     return true;
   };
-  // The plain cot weights give the most conformal map (clamping costs conformality: cigar K̄ 1.2 → 2.2), but
-  // negative weights can fold it; then the clamped, all-positive weights, whose embedding Tutte/Floater guarantee.
+  // The intrinsic Delaunay weights give the most conformal map; they are nonnegative, so the planar map of the
+  // INTRINSIC triangulation is an embedding, but the mesh's own faces (straight chords between the same vertices)
+  // can still fold where edges were flipped. Then the clamped, all-positive weights on the mesh's own edges, whose
+  // embedding Tutte/Floater guarantee (clamping costs conformality: cigar K̄ 1.2 → 2.2).
   Eigen::MatrixX2d z;
-  std::string weights_used = "cot weights";
-  const bool plain_ok = (clamped == 0 || !options.always_clamp) && solve_plane(w, z) && (clamped == 0 || embedded(z));
+  std::string weights_used = std::string(geometry::to_string(laplacian.kind)) + " cot weights" +
+                             (raised > 0 ? " (" + std::to_string(raised) + " raised to the floor)" : "");
+  const bool plain_ok = !options.always_clamp && solve_plane(w_intrinsic, z) && embedded(z);
   if (!plain_ok) {
-    if (clamped == 0 || !solve_plane(w_clamped, z)) return fail("solver", "linear map: " + solver.message());
-    weights_used = std::to_string(clamped / 2) + " of " + std::to_string(pattern.edge_count) +
-                   " cot weights clamped to " + std::to_string(options.min_weight) + " x mean";
+    if (!solve_plane(w_clamped, z)) return fail(MapCheck::Solver, "linear map: " + solver.message());
+    weights_used = std::to_string(clamped) + " of " + std::to_string(own.size()) +
+                   " mollified cot weights clamped to " + std::to_string(options.min_weight) + " x mean";
   }
   rec.geometry_seconds = seconds_since(t_start) - rec.factor_seconds - rec.poisson_seconds;
-  if (!z.allFinite()) return fail("non_finite", "linear map: non-finite planar positions");
+  if (!z.allFinite()) return fail(MapCheck::NonFinite, "linear map: non-finite planar positions");
 
   // 3. Scale to median |z| = 1, inverse stereographic projection.
   std::vector<double> radius(static_cast<size_t>(nv));

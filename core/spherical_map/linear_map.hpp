@@ -29,6 +29,7 @@ namespace wish::spherical {
 
 // Result: vertices on the unit sphere (on_sphere = true), one step record with the timings, status Ok or
 // SolverFailed ("solver", "non_finite").
-FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearSolverKind solver);
+FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearSolverKind solver,
+                      const geometry::IntrinsicOptions& laplacian = {});
 
 }  // namespace wish::spherical

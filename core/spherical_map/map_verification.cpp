@@ -31,7 +31,9 @@ FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eig
   FaceDistortion d;
   d.conformal.resize(nf);
   d.area_ratio.resize(nf);
-  Eigen::VectorXd in_area(nf), out_area(nf);
+  d.input_area.resize(nf);
+  Eigen::VectorXd& in_area = d.input_area;
+  Eigen::VectorXd out_area(nf);
   for (Eigen::Index f = 0; f < nf; ++f) {
     const Eigen::Vector3d a = sphere.row(faces(f, 0)), b = sphere.row(faces(f, 1)), c = sphere.row(faces(f, 2));
     const Eigen::Vector3d p0 = input_vertices.row(faces(f, 0)), p1 = input_vertices.row(faces(f, 1)),
@@ -76,32 +78,46 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
     solid_angle += 2.0 * std::atan2(num, den);
   }
   q.degree = static_cast<int>(std::lround(solid_angle / (4.0 * std::numbers::pi)));
-  // Conformal distortion and area distortion, from the per-face figures.
+  // Conformal distortion and area distortion, from the per-face figures. Faces of (near) zero input area — a real
+  // segmentation mesh's twin-vertex faces — have no meaningful K or area ratio: they are counted, not averaged.
   const FaceDistortion d = face_distortion(input_vertices, faces, sphere);
-  std::vector<double> k(d.conformal.data(), d.conformal.data() + nf);
+  const double input_area = d.input_area.sum();
+  std::vector<double> k;
+  k.reserve(static_cast<size_t>(nf));
   double ksum = 0, log_sum = 0;
+  const double min_input_area = 1e-14 * input_area / static_cast<double>(std::max<Eigen::Index>(1, nf));
   for (Eigen::Index f = 0; f < nf; ++f) {
+    if (!(d.input_area[f] > min_input_area)) {
+      ++q.skipped_input_faces;
+      continue;
+    }
+    k.push_back(d.conformal[f]);
     ksum += d.conformal[f];
     log_sum += std::abs(std::log(d.area_ratio[f]));
   }
-  if (nf > 0) {
-    q.conformal_mean = ksum / static_cast<double>(nf);
+  if (!k.empty()) {
+    q.conformal_mean = ksum / static_cast<double>(k.size());
     q.conformal_max = *std::max_element(k.begin(), k.end());
     const size_t idx = std::min(k.size() - 1, static_cast<size_t>(std::ceil(0.99 * static_cast<double>(k.size()))) - 1);
     std::nth_element(k.begin(), k.begin() + static_cast<std::ptrdiff_t>(idx), k.end());
     q.conformal_p99 = k[idx];
-    q.area_distortion = std::exp(log_sum / static_cast<double>(nf));
+    q.area_distortion = std::exp(log_sum / static_cast<double>(k.size()));
   }
+  const bool bijective = q.non_finite_vertices == 0 && q.flipped_faces == 0 && q.degenerate_faces == 0 && q.degree == 1;
+  q.verdict = !bijective ? MapVerdict::Failed
+              : q.conformal_p99 <= thresholds.max_conformal_p99 ? MapVerdict::Good
+                                                                : MapVerdict::Distorted;
   return q;
 }
 
-std::string failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds) {
-  if (quality.non_finite_vertices > 0) return "non_finite";
-  if (quality.flipped_faces > 0) return "flipped_faces";
-  if (quality.degenerate_faces > 0) return "degenerate_faces";
-  if (quality.degree != 1) return "degree";
-  if (!(quality.conformal_p99 <= thresholds.max_conformal_p99)) return "conformal_distortion";
-  return {};
+MapCheck failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds) {
+  if (quality.non_finite_vertices > 0) return MapCheck::NonFinite;
+  if (quality.flipped_faces > 0) return MapCheck::FlippedFaces;
+  if (quality.degenerate_faces > 0) return MapCheck::DegenerateFaces;
+  if (quality.degree != 1) return MapCheck::Degree;
+  if (thresholds.strict_conformal_bound && !(quality.conformal_p99 <= thresholds.max_conformal_p99))
+    return MapCheck::ConformalDistortion;
+  return MapCheck::None;
 }
 
 }  // namespace wish::spherical

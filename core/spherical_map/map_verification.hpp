@@ -7,7 +7,10 @@
 //  * degree: Σ signed solid angles / 4π, rounded (Van Oosterom–Strackee); +1 for a bijective, orientation-
 //    preserving map;
 //  * conformal distortion K_f = σ₁/σ₂ ≥ 1 of the affine map input triangle → sphere triangle (mean, p99, max);
-//  * area distortion exp(mean_f |log(a_f/A_f)|), areas normalised to equal totals (1 = equiareal).
+//  * area distortion exp(mean_f |log(a_f/A_f)|), areas normalised to equal totals (1 = equiareal);
+//  * verdict: failed (any check but the distortion bound), good (K p99 ≤ max_conformal_p99), distorted (above).
+// Input faces of (numerically) zero area have no affine map to measure: they are left out of the K and area
+// figures and counted in skipped_input_faces (their sphere images are still checked for flips and degeneracy).
 // Roundness and the Möbius centroid are filled by the caller (they belong to the flow and the balancing).
 
 #include <string>
@@ -24,16 +27,17 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
 // Per-face figures behind MapQuality's summaries (what a viewer colours the map by), in face order:
 //  * conformal[f] = K_f = σ₁/σ₂ ≥ 1 of the affine map input triangle → sphere chord triangle (+inf when the sphere
 //    triangle is degenerate);
-//  * area_ratio[f] = (a_f / Σa) / (A_f / ΣA): sphere area share over input area share (1 = equiareal).
+//  * area_ratio[f] = (a_f / Σa) / (A_f / ΣA): sphere area share over input area share (1 = equiareal);
+//  * input_area[f] = A_f, the input triangle's area (in the mesh's units).
 // measure_map's conformal mean / p99 / max and area distortion exp(mean |log area_ratio|) are computed from these.
 struct FaceDistortion {
-  Eigen::VectorXd conformal, area_ratio;
+  Eigen::VectorXd conformal, area_ratio, input_area;
 };
 FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                                const Eigen::MatrixX3d& sphere);
 
-// First failed check in the order "non_finite", "flipped_faces", "degenerate_faces", "degree",
-// "conformal_distortion"; empty when the map passes.
-std::string failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
+// First failed check in the order non_finite, flipped_faces, degenerate_faces, degree, and — only with
+// strict_conformal_bound — conformal_distortion; MapCheck::None when the map passes.
+MapCheck failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
 
 }  // namespace wish::spherical

@@ -51,6 +51,49 @@ LinearSolverKind linear_solver_from_name(const std::string& name) {
                           {{"solver", name}});
 }
 
+const char* to_string(MapCheck check) {
+  switch (check) {
+    case MapCheck::None: return "";
+    case MapCheck::NonFinite: return "non_finite";
+    case MapCheck::FlippedFaces: return "flipped_faces";
+    case MapCheck::DegenerateFaces: return "degenerate_faces";
+    case MapCheck::Degree: return "degree";
+    case MapCheck::ConformalDistortion: return "conformal_distortion";
+    case MapCheck::Roundness: return "roundness";
+    case MapCheck::Energy: return "energy";
+    case MapCheck::EigenResidual: return "eigen_residual";
+    case MapCheck::Solver: return "solver";
+    case MapCheck::Mobius: return "mobius";
+    case MapCheck::TimeBudget: return "time_budget";
+  }
+  return "?";
+}
+
+const char* to_string(FlowStop stop) {
+  switch (stop) {
+    case FlowStop::None: return "none";
+    case FlowStop::Converged: return "converged";
+    case FlowStop::EnergyPlateau: return "energy_plateau";
+    case FlowStop::RoundnessPlateau: return "roundness_plateau";
+    case FlowStop::EnergyStall: return "energy_stall";
+    case FlowStop::StepCap: return "step_cap";
+    case FlowStop::RejectedSteps: return "rejected_steps";
+    case FlowStop::SolverFailed: return "solver_failed";
+    case FlowStop::NonFinite: return "non_finite";
+    case FlowStop::TimeBudget: return "time_budget";
+  }
+  return "?";
+}
+
+const char* to_string(MapVerdict verdict) {
+  switch (verdict) {
+    case MapVerdict::Good: return "good";
+    case MapVerdict::Distorted: return "distorted";
+    case MapVerdict::Failed: return "failed";
+  }
+  return "?";
+}
+
 const char* to_string(MapStatus status) {
   switch (status) {
     case MapStatus::Ok: return "ok";
@@ -81,11 +124,15 @@ void check_preconditions(const Mesh& mesh) {
                                 ", 3F = " + std::to_string(3 * nf) + ", 2E = " + std::to_string(2 * pattern.edge_count) +
                                 "); run prepare_for_mapping first",
                             {{"euler_characteristic", std::int64_t{chi}}});
-  const Eigen::VectorXd areas = geometry::face_areas(mesh.vertices, mesh.faces);
-  const Eigen::Index degenerate = (areas.array() <= 0).count();
-  if (degenerate > 0)
-    throw InvalidInputError("degenerate_faces", std::to_string(degenerate) + " faces have zero area",
-                            {{"count", std::int64_t{degenerate}}});
+  // Zero-area faces are accepted (the operators mollify them, intrinsic_laplacian.hpp); a face that repeats a
+  // vertex is a topological defect.
+  Eigen::Index repeated = 0;
+  for (Eigen::Index f = 0; f < nf; ++f)
+    repeated += mesh.faces(f, 0) == mesh.faces(f, 1) || mesh.faces(f, 1) == mesh.faces(f, 2) ||
+                mesh.faces(f, 2) == mesh.faces(f, 0);
+  if (repeated > 0)
+    throw InvalidInputError("degenerate_faces", std::to_string(repeated) + " faces repeat a vertex",
+                            {{"count", std::int64_t{repeated}}});
   const double volume = geometry::signed_volume(mesh.vertices, mesh.faces);
   if (!(volume > 0))
     throw InvalidInputError("inconsistent_orientation",
@@ -93,17 +140,9 @@ void check_preconditions(const Mesh& mesh) {
                             {{"signed_volume", volume}});
 }
 
-struct AttemptPlan {
-  MapMethod method;
-  bool filtered;
-  int max_steps;
-  int continue_from = -1;  // Willmore: continue the flowed surface of this earlier attempt
-  bool clamp = false;      // linear: always use the clamped (all-positive) weights
-};
-
-MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const SphericalMapOptions& options,
-                       const Eigen::VectorXd& input_mass, const Deadline& deadline, const Eigen::MatrixX3d* start,
-                       Eigen::MatrixX3d& flowed, Eigen::MatrixX3d& sphere) {
+MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const SphericalMapOptions& options,
+                       const Eigen::VectorXd& input_mass, const Deadline& deadline, const Deadline& budget,
+                       const Eigen::MatrixX3d* start, Eigen::MatrixX3d& flowed, Eigen::MatrixX3d& sphere) {
   const Clock::time_point t0 = Clock::now();
   MapAttempt attempt;
   attempt.method = plan.method;
@@ -115,18 +154,20 @@ MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const Spherica
     WillmoreOptions w = options.willmore;
     w.filtered = plan.filtered;
     w.max_steps = start ? plan.max_steps - options.willmore.max_steps : plan.max_steps;
-    flow = spherical::willmore_flow(mesh, w, options.solver, deadline, start);
+    flow = spherical::willmore_flow(mesh, w, options.solver, options.laplacian, deadline, start, budget);
   } else if (plan.method == MapMethod::Cmcf) {
     CmcfOptions c = options.cmcf;
     c.max_steps = plan.max_steps;
-    flow = spherical::cmcf_flow(mesh, c, options.solver, deadline);
+    flow = spherical::cmcf_flow(mesh, c, options.solver, options.laplacian, deadline, budget);
   } else {
     LinearMapOptions l = options.linear;
     l.always_clamp = l.always_clamp || plan.clamp;
-    flow = spherical::linear_map(mesh, l, options.solver);
+    flow = spherical::linear_map(mesh, l, options.solver, options.laplacian);
   }
   attempt.steps = std::move(flow.steps);
   attempt.hit_step_cap = flow.hit_step_cap;
+  attempt.stop = flow.stop;
+  attempt.operator_stats = flow.operator_stats;
   if (flow.on_sphere) {
     sphere = flow.vertices;  // the linear method maps to the sphere directly
   } else {
@@ -151,16 +192,17 @@ MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const Spherica
   attempt.quality.roundness = flow.roundness;
   attempt.quality.mobius_centroid = mobius.centroid;
   attempt.quality.mobius_iterations = mobius.iterations;
-  const std::string failed = spherical::failed_map_check(attempt.quality, options.verification);
-  attempt.map_verified = failed.empty() && flow.status != MapStatus::SolverFailed;
+  const MapCheck failed = spherical::failed_map_check(attempt.quality, options.verification);
+  attempt.map_verified = failed == MapCheck::None && flow.status != MapStatus::SolverFailed;
+  if (flow.status == MapStatus::SolverFailed) attempt.quality.verdict = MapVerdict::Failed;
   if (flow.status == MapStatus::SolverFailed) {
     attempt.status = MapStatus::SolverFailed;
     attempt.failed_check = flow.failed_check;
     attempt.message = flow.message;
-  } else if (!failed.empty()) {
+  } else if (failed != MapCheck::None) {
     attempt.status = MapStatus::VerificationFailed;
     attempt.failed_check = failed;
-    attempt.message = "map failed verification: " + failed + " (flips " + std::to_string(attempt.quality.flipped_faces) +
+    attempt.message = std::string("map failed verification: ") + to_string(failed) + " (flips " + std::to_string(attempt.quality.flipped_faces) +
                       ", degenerate " + std::to_string(attempt.quality.degenerate_faces) + ", degree " +
                       std::to_string(attempt.quality.degree) + ", K p99 " + std::to_string(attempt.quality.conformal_p99) +
                       ", roundness " + std::to_string(flow.roundness) + ")";
@@ -171,7 +213,7 @@ MapAttempt run_attempt(const Mesh& mesh, const AttemptPlan& plan, const Spherica
     attempt.message = flow.message;
   } else if (!mobius.converged) {
     attempt.status = MapStatus::NotConverged;
-    attempt.failed_check = "mobius";
+    attempt.failed_check = MapCheck::Mobius;
     attempt.message = "Möbius balancing stopped at centroid " + std::to_string(mobius.centroid);
   } else {
     attempt.message = flow.message;  // e.g. "stalled: ..." — a stalled flow whose map verifies is Ok
@@ -194,51 +236,66 @@ bool less_bad(const MapAttempt& a, const MapAttempt& b) {
 
 }  // namespace
 
-SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOptions& options, const Deadline& deadline) {
-  const Clock::time_point t0 = Clock::now();
-  check_preconditions(mesh);
-  const Eigen::VectorXd input_mass = geometry::lumped_mass(mesh.vertices, mesh.faces);
-
-  // The chain (spherical-map.md §7). A plan is skipped when it cannot help: "more steps" only after a flow that ran
-  // out of steps (it continues that flow's surface instead of starting over).
+std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
+  // Ordered by cost. A plan is skipped at run time when it cannot help: "more steps" only after a flow that ran
+  // out of steps (it continues that flow's surface instead of starting over); any flow once the flow budget is
+  // spent. The filtered Willmore flow is no fallback any more, to bound the time (it is a second full Dirac flow):
+  // ask for it with willmore.filtered.
   const int n = options.willmore.max_steps;
-  const AttemptPlan willmore{MapMethod::Willmore, options.willmore.filtered, n};
-  const AttemptPlan cmcf{MapMethod::Cmcf, false, options.cmcf.max_steps};
-  const AttemptPlan cmcf_long{MapMethod::Cmcf, false, std::max(options.cmcf.max_steps, options.cmcf.fallback_max_steps)};
-  const AttemptPlan linear{MapMethod::Linear, false, 1};
-  const AttemptPlan linear_clamped{MapMethod::Linear, false, 1, -1, true};
-  std::vector<AttemptPlan> plans;
+  const MapAttemptPlan willmore{MapMethod::Willmore, options.willmore.filtered, n};
+  const MapAttemptPlan cmcf{MapMethod::Cmcf, false, options.cmcf.max_steps};
+  const MapAttemptPlan cmcf_long{MapMethod::Cmcf, false,
+                                 std::max(options.cmcf.max_steps, options.cmcf.fallback_max_steps)};
+  const MapAttemptPlan linear{MapMethod::Linear, false, 1};
+  const MapAttemptPlan linear_clamped{MapMethod::Linear, false, 1, -1, true};
+  std::vector<MapAttemptPlan> plans;
   if (options.method == MapMethod::Willmore) {
     plans.push_back(willmore);
     if (options.fallback) {
-      plans.push_back({MapMethod::Willmore, options.willmore.filtered, 2 * n, 0});  // (ii) more steps
-      if (!options.willmore.filtered) plans.push_back({MapMethod::Willmore, true, 2 * n});  // (iii) filtered
-      plans.push_back(cmcf_long);                                                            // (iv) cMCF
-      plans.push_back(linear);                                                               // (v) linear
-      plans.push_back(linear_clamped);                                                       //     clamped
+      plans.push_back({MapMethod::Willmore, options.willmore.filtered, 2 * n, 0});  // more steps
+      plans.push_back(cmcf_long);
+      plans.push_back(linear);
+      plans.push_back(linear_clamped);
     }
   } else if (options.method == MapMethod::Cmcf) {
     plans.push_back(cmcf);
     if (options.fallback) {
       if (cmcf_long.max_steps > cmcf.max_steps) plans.push_back(cmcf_long);
-      plans.push_back(willmore);
       plans.push_back(linear);
       plans.push_back(linear_clamped);
+      plans.push_back(willmore);
     }
   } else {
     plans.push_back(linear);
     if (options.fallback) {
       plans.push_back(linear_clamped);
-      plans.push_back(willmore);
       plans.push_back(cmcf_long);
+      plans.push_back(willmore);
     }
   }
+  return plans;
+}
+
+SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOptions& options, const Deadline& deadline) {
+  const Clock::time_point t0 = Clock::now();
+  check_preconditions(mesh);
+  const Eigen::VectorXd input_mass = geometry::lumped_mass(mesh.vertices, mesh.faces);
+
+  const std::vector<MapAttemptPlan> plans = plan_attempts(options);
+  // Soft budget of the flows (scaled with the mesh size); the linear attempts always run after it.
+  const double budget_seconds =
+      options.flow_budget_seconds * std::max(1.0, static_cast<double>(mesh.vertex_count()) / 10000.0);
+  const Deadline budget = options.flow_budget_seconds > 0
+                              ? Deadline::after(std::chrono::duration<double>(budget_seconds))
+                              : Deadline{};
 
   SphericalMapResult result;
   std::vector<Eigen::MatrixX3d> flowed(plans.size());
   Eigen::MatrixX3d best_sphere;
   for (size_t k = 0; k < plans.size(); ++k) {
-    const AttemptPlan& plan = plans[k];
+    const MapAttemptPlan& plan = plans[k];
+    // Hopeless: a flow after the budget is spent (the linear attempts cost two V×V solves and always run).
+    if (plan.method != MapMethod::Linear && budget.expired() && !result.attempts.empty()) continue;
     const Eigen::MatrixX3d* start = nullptr;
     if (plan.continue_from >= 0) {
       const MapAttempt& previous = result.attempts[static_cast<size_t>(plan.continue_from)];
@@ -256,7 +313,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
       continue;
     deadline.check("spherical map attempt");
     Eigen::MatrixX3d sphere;
-    MapAttempt attempt = run_attempt(mesh, plan, options, input_mass, deadline, start, flowed[k], sphere);
+    MapAttempt attempt = run_attempt(mesh, plan, options, input_mass, deadline, budget, start, flowed[k], sphere);
     const bool first = result.attempts.empty();
     const bool ok = attempt.status == MapStatus::Ok;
     if (first || ok || less_bad(attempt, result.attempts[static_cast<size_t>(result.chosen_attempt)])) {
@@ -271,6 +328,8 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   result.status = chosen.status;
   result.failed_check = chosen.failed_check;
   result.quality = chosen.quality;
+  result.verdict = chosen.quality.verdict;
+  result.operator_stats = chosen.operator_stats;
   result.method_used = chosen.method;
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return result;

@@ -17,12 +17,36 @@
 #include <Eigen/Core>
 
 #include "core/common/deadline.hpp"
+#include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/mesh/mesh.hpp"
 
 namespace wish {
 
 enum class MapMethod { Willmore, Cmcf, Linear };
 enum class LinearSolverKind { Cholmod, EigenSimplicial };
+
+// Why a map or a flow failed (empty = None). Machine-readable names via to_string: "non_finite", "flipped_faces",
+// "degenerate_faces", "degree", "conformal_distortion", "roundness", "energy", "eigen_residual", "solver",
+// "mobius", "time_budget".
+enum class MapCheck {
+  None, NonFinite, FlippedFaces, DegenerateFaces, Degree, ConformalDistortion, Roundness, Energy, EigenResidual,
+  Solver, Mobius, TimeBudget
+};
+const char* to_string(MapCheck check);
+
+// Why a flow stopped: "converged" (roundness tolerance), "energy_plateau", "roundness_plateau", "energy_stall" (no
+// step down to min_tau lowers E), "step_cap", "rejected_steps" (τ fell below min_tau for another reason),
+// "solver_failed", "non_finite", "time_budget", or "none" (a one-shot method: the linear map).
+enum class FlowStop {
+  None, Converged, EnergyPlateau, RoundnessPlateau, EnergyStall, StepCap, RejectedSteps, SolverFailed, NonFinite,
+  TimeBudget
+};
+const char* to_string(FlowStop stop);
+
+// Distortion verdict of a bijective map: "good" (K p99 within max_conformal_p99), "distorted" (bijective, above it:
+// still a usable descriptor, reported rather than refused unless strict_conformal_bound), "failed" (not bijective).
+enum class MapVerdict { Good, Distorted, Failed };
+const char* to_string(MapVerdict verdict);
 
 const char* to_string(MapMethod method);
 MapMethod map_method_from_name(const std::string& name);  // "willmore" | "cmcf" | "linear"; throws InvalidInputError
@@ -95,7 +119,10 @@ struct MapVerificationThresholds {
   // Optional absolute floor kept for callers that want one: area below this * 4*pi also counts as degenerate
   // (0 = off; it was 1e-12, which flagged exact, bijective maps of long shapes).
   double degenerate_area = 0;
-  double max_conformal_p99 = 5.0;    // quasi-conformal ratio K (p99) above this fails verification
+  // Quasi-conformal ratio K (p99) above this makes the verdict "distorted"; it fails verification only with
+  // strict_conformal_bound (real segmentation meshes with thin necks get bijective maps with K p99 ~ 10–100).
+  double max_conformal_p99 = 5.0;
+  bool strict_conformal_bound = false;
   bool operator==(const MapVerificationThresholds&) const = default;
 };
 
@@ -109,6 +136,13 @@ struct SphericalMapOptions {
   // Added: before verification, relax the few vertices around flipped / numerically degenerate faces (untangle.hpp).
   bool untangle = true;
   MapVerificationThresholds verification;
+  // Added: the operator behind every Laplacian and mass of the flows, the Poisson step, cMCF and the linear map
+  // (intrinsic_laplacian.hpp: mollified lengths + intrinsic Delaunay by default).
+  geometry::IntrinsicOptions laplacian;
+  // Added: soft time budget of the FLOW attempts, in seconds per 10,000 vertices (at least this many seconds).
+  // When it has passed, the running flow stops (FlowStop::TimeBudget, its map still verified) and only the cheap
+  // linear attempts of the chain run; 0 = no budget. The request deadline (Deadline) is separate and hard.
+  double flow_budget_seconds = 4.0;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 
@@ -128,6 +162,8 @@ struct MapQuality {
   // Added: vertices moved by the local repair of a few flipped / numerically degenerate faces (untangle.hpp);
   // 0 when the map verified as computed.
   long repaired_vertices = 0;
+  MapVerdict verdict = MapVerdict::Failed;  // Added: good / distorted / failed (see MapVerdict)
+  long skipped_input_faces = 0;      // Added: zero-area input faces left out of the K / area statistics
 };
 
 // One flow step, accepted or rejected.
@@ -153,15 +189,32 @@ struct FlowStepRecord {
 enum class MapStatus { Ok, NotConverged, VerificationFailed, SolverFailed };
 const char* to_string(MapStatus status);
 
+// One entry of the fallback chain (plan_attempts()).
+struct MapAttemptPlan {
+  MapMethod method = MapMethod::Willmore;
+  bool filtered = false;
+  int max_steps = 0;
+  int continue_from = -1;  // Willmore: continue the flowed surface of this earlier attempt (if it hit its cap)
+  bool clamp = false;      // linear: always use the clamped (all-positive) weights
+  bool operator==(const MapAttemptPlan&) const = default;
+};
+
+// The chain for `options`, ordered by cost (spherical-map.md §7): the requested method, then (with fallback)
+// more steps of the same flow, cMCF run to its stall, the linear map with intrinsic weights, the clamped
+// (Tutte) linear map. Attempts that cannot help are skipped at run time (see compute_spherical_map).
+std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options);
+
 // One try of one method (the first try and each fallback).
 struct MapAttempt {
   MapMethod method = MapMethod::Willmore;
   bool filtered = false;
   int max_steps = 0;
   MapStatus status = MapStatus::Ok;
-  std::string failed_check;          // "flipped_faces", "degenerate_faces", "roundness", "solver", ... or empty
+  MapCheck failed_check = MapCheck::None;
+  FlowStop stop = FlowStop::None;    // Added: why the flow stopped
   std::string message;
   MapQuality quality;
+  geometry::IntrinsicStats operator_stats;  // Added: mollification / flips of the operator this attempt used
   std::vector<FlowStepRecord> steps;
   double seconds = 0;
   bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
@@ -172,7 +225,8 @@ struct MapAttempt {
 struct SphericalMapResult {
   Eigen::MatrixX3d sphere;           // #V by 3 unit vectors: the image of each input vertex
   MapStatus status = MapStatus::Ok;  // of the attempt whose map is returned
-  std::string failed_check;          // empty when Ok
+  MapCheck failed_check = MapCheck::None;
+  MapVerdict verdict = MapVerdict::Failed;  // Added: quality.verdict of the returned map
   MapQuality quality;
   MapMethod method_used = MapMethod::Willmore;
   // In order. `sphere` is the map of attempts[chosen_attempt]: the first Ok attempt (the chain stops there), or,
@@ -180,6 +234,9 @@ struct SphericalMapResult {
   // with the fewest non-finite, flipped and degenerate faces — with that attempt's (not Ok) status.
   std::vector<MapAttempt> attempts;
   int chosen_attempt = 0;            // Added
+  // Added: the operator of the returned map's attempt (mollification epsilon, zero-area faces, negative weights
+  // before, flips done).
+  geometry::IntrinsicStats operator_stats;
   double seconds = 0;
   bool ok() const { return status == MapStatus::Ok; }
 };

@@ -102,6 +102,23 @@ Eigen::MatrixX3d spin_divergence(const Eigen::MatrixX3d& vertices, const Eigen::
   return omega;
 }
 
+Eigen::MatrixX3d spin_divergence(const Eigen::MatrixX3d& vertices, const std::vector<geometry::IntrinsicEdgeWeight>& edges,
+                                 const Eigen::VectorXd& lambda) {
+  Eigen::MatrixX3d omega = Eigen::MatrixX3d::Zero(vertices.rows(), 3);
+  for (const geometry::IntrinsicEdgeWeight& edge : edges) {
+    const int a = edge.i, b = edge.j;
+    const Quaternion e = Quaternion::imaginary(vertices.row(b) - vertices.row(a));
+    const Quaternion la = lambda_at(lambda, a), lb = lambda_at(lambda, b);
+    const Quaternion ea = e * la, eb = e * lb;
+    const Quaternion et = (1.0 / 3.0) * (la.conj() * ea) + (1.0 / 6.0) * (la.conj() * eb) +
+                          (1.0 / 6.0) * (lb.conj() * ea) + (1.0 / 3.0) * (lb.conj() * eb);
+    const Eigen::Vector3d v = edge.weight * et.vec();
+    omega.row(a) -= v.transpose();
+    omega.row(b) += v.transpose();
+  }
+  return omega;
+}
+
 void pin_vertex(const Eigen::SparseMatrix<double>& laplacian, int pin, Eigen::SparseMatrix<double>& pinned) {
   pinned = laplacian;
   const int* outer = pinned.outerIndexPtr();

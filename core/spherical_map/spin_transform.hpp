@@ -9,6 +9,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <vector>
+
+#include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 
 namespace wish::spherical {
@@ -44,6 +47,11 @@ EigenSolveReport smallest_eigenvector(linalg::SparseCholeskyT<Scalar>& solver, c
 // λ is the 4V eigenvector (w, x, y, z per vertex). With λ ≡ 1, ω = L x.
 Eigen::MatrixX3d spin_divergence(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                  const Eigen::MatrixX3d& cot, const Eigen::VectorXd& lambda);
+
+// The same on any edge set with weights (an intrinsic triangulation's: ω_i = Σ_j w_ij ẽ_{j→i} with ẽ from the
+// chord x_j − x_i). With λ ≡ 1, ω = L x for the L of those weights — the Poisson step stays exact for any L.
+Eigen::MatrixX3d spin_divergence(const Eigen::MatrixX3d& vertices, const std::vector<geometry::IntrinsicEdgeWeight>& edges,
+                                 const Eigen::VectorXd& lambda);
 
 // Copies `laplacian` into `pinned` (same pattern) with row and column `pin` replaced by the identity: the factored
 // matrix is then definite for a connected mesh, and solving with ω_pin = 0 gives x̃_pin = 0.

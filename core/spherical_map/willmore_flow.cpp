@@ -10,6 +10,7 @@
 
 #include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
+#include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/geometry/mass_matrix.hpp"
 #include "core/geometry/mean_curvature.hpp"
 #include "core/geometry/roundness.hpp"
@@ -79,27 +80,36 @@ class DiracSystem {
   Eigen::VectorXcd zx_;
 };
 
-// Everything derived from the current positions.
+// Everything derived from the current positions. The Laplacian, the mass and the areas come from the intrinsic
+// operator of the current surface (mollified lengths, intrinsic Delaunay flips; intrinsic_laplacian.hpp), so
+// zero-area and needle faces give finite, nonnegative weights. The Dirac matrix is necessarily EXTRINSIC — a spin
+// transformation acts on the immersion, so it needs the edge vectors of the mesh's own faces — but takes the
+// mollified face areas (1/A_f stays finite on a zero-area face). The normals are the angle-weighted extrinsic
+// ones (zero-area faces contribute nothing).
 struct SurfaceState {
   Eigen::MatrixX3d x;
   Eigen::VectorXd areas, mass, h;
-  Eigen::MatrixX3d cot, normals;
+  Eigen::MatrixX3d normals;
+  std::vector<geometry::IntrinsicEdgeWeight> edges;
   Eigen::SparseMatrix<double> laplacian;
+  geometry::IntrinsicStats operator_stats;
   double energy = 0, roundness = 0;
   bool finite = true;
 };
 
-void update_state(const geometry::VertexPattern& pattern, const Eigen::MatrixX3i& faces, SurfaceState& s) {
-  s.areas = geometry::face_areas(s.x, faces);
-  s.cot = geometry::corner_cotangents(s.x, faces);
-  geometry::assemble_cotan_laplacian(pattern, faces, s.cot, s.laplacian);
-  s.mass = geometry::lumped_mass(faces, s.areas, s.x.rows());
+void update_state(const Eigen::MatrixX3i& faces, const geometry::IntrinsicOptions& laplacian, SurfaceState& s) {
+  geometry::IntrinsicOperator op = geometry::intrinsic_operator(s.x, faces, laplacian);
+  s.areas = std::move(op.input_face_areas);
+  s.laplacian = std::move(op.laplacian);
+  s.mass = std::move(op.mass);
+  s.edges = std::move(op.edges);
+  s.operator_stats = op.stats;
   s.normals = geometry::vertex_normals(s.x, faces);
   s.h = geometry::mean_curvature(s.x, s.laplacian, s.mass, s.normals);
   s.energy = geometry::willmore_energy(s.h, s.mass);
   s.roundness = geometry::roundness(s.x, s.mass);
-  s.finite = s.x.allFinite() && s.cot.allFinite() && s.h.allFinite() && std::isfinite(s.energy) &&
-             s.areas.minCoeff() > 0;
+  s.finite = s.x.allFinite() && s.laplacian.coeffs().allFinite() && s.h.allFinite() && std::isfinite(s.energy) &&
+             s.areas.minCoeff() > 0 && s.mass.minCoeff() > 0;
 }
 
 // P(g) = g − Σ_k ⟨g, u_k⟩_M u_k with {u_k} the M-orthonormalised {1, N_x, N_y, N_z} (modified Gram–Schmidt, two
@@ -133,8 +143,19 @@ void normalise_area_and_centre(Eigen::MatrixX3d& x, const Eigen::MatrixX3i& face
 }
 
 FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver_kind,
-                         const Deadline& deadline, const Eigen::MatrixX3d* start) {
+                         const geometry::IntrinsicOptions& laplacian_options, const Deadline& deadline,
+                         const Eigen::MatrixX3d* start, const Deadline& budget) {
   FlowResult result;
+  // The spin transformation transforms the edges OF THE IMMERSION (CPS11): the Poisson step must integrate the
+  // transformed edges of the mesh's own triangles, whose cotans make ω consistent with 𝔼. An intrinsic Delaunay
+  // edge is a geodesic across two triangles, not an edge of the immersion, and its transformed chord is not what λ
+  // prescribes (measured: camel 4720 flips, bull degree −1 with it). The flow therefore uses the MOLLIFIED
+  // operator on the mesh's own triangles (finite on zero-area faces); cMCF and the linear map use intrinsic
+  // Delaunay.
+  geometry::IntrinsicOptions flow_operator = laplacian_options;
+  if (flow_operator.kind == geometry::LaplacianKind::IntrinsicDelaunay)
+    flow_operator.kind = geometry::LaplacianKind::Mollified;
+  const geometry::IntrinsicOptions& laplacian = flow_operator;
   const Eigen::MatrixX3i& faces = mesh.faces;
   const geometry::VertexPattern pattern = geometry::build_vertex_pattern(mesh.vertex_count(), faces);
   const std::vector<int> perm =
@@ -148,14 +169,15 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
   SurfaceState state;
   state.x = start ? *start : mesh.vertices;
   normalise_area_and_centre(state.x, faces);
-  state.laplacian = pattern.pattern;
-  update_state(pattern, faces, state);
+  update_state(faces, laplacian, state);
+  result.operator_stats = state.operator_stats;
   result.initial_energy = result.energy = state.energy;
   result.initial_roundness = result.roundness = state.roundness;
   result.vertices = state.x;
   if (!state.finite) {
     result.status = MapStatus::SolverFailed;
-    result.failed_check = "non_finite";
+    result.failed_check = MapCheck::NonFinite;
+    result.stop = FlowStop::NonFinite;
     result.message = "input geometry gives non-finite curvature or zero-area faces";
     return result;
   }
@@ -166,7 +188,19 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
   bool stopped = false;
   for (int step = 1; step <= options.max_steps && !stopped; ++step) {
     deadline.check("willmore flow step");
-    if (state.roundness < options.roundness_tolerance) break;
+    if (state.roundness < options.roundness_tolerance) {
+      result.stop = FlowStop::Converged;
+      break;
+    }
+    if (budget.expired()) {  // soft budget of the chain: stop here, the surface so far is verified as it is
+      result.status = MapStatus::NotConverged;
+      result.failed_check = MapCheck::TimeBudget;
+      result.stop = FlowStop::TimeBudget;
+      result.message = "flow time budget spent after " + std::to_string(step - 1) + " steps at roundness " +
+                       std::to_string(state.roundness);
+      stopped = true;
+      break;
+    }
     bool accepted = false;
     while (!accepted) {
       const Clock::time_point t_step = Clock::now();
@@ -180,11 +214,11 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
       if (options.filtered) {
         const double edge = geometry::mean_edge_length(state.x, faces);
         const double sigma = options.filter_strength * edge * edge;
-        filter_matrix = state.laplacian;
-        filter_matrix *= sigma;
-        for (Eigen::Index i = 0; i < state.mass.size(); ++i)
-          filter_matrix.valuePtr()[pattern.diagonal[static_cast<size_t>(i)]] += state.mass[i];
-        if (filter_solver.factorize(filter_matrix)) {
+        Eigen::SparseMatrix<double> mass_matrix(state.mass.size(), state.mass.size());
+        mass_matrix.setIdentity();
+        mass_matrix.diagonal() = state.mass;
+        filter_matrix = sigma * state.laplacian + mass_matrix;  // the intrinsic pattern changes with the flips
+        if (filter_solver.analyze(filter_matrix) && filter_solver.factorize(filter_matrix)) {
           g = filter_solver.solve(Eigen::VectorXd(state.mass.cwiseProduct(state.h)));
         } else {
           filter_failed = true;
@@ -192,7 +226,8 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
       }
       if (filter_failed) {
         result.status = MapStatus::SolverFailed;
-        result.failed_check = "solver";
+        result.failed_check = MapCheck::Solver;
+        result.stop = FlowStop::SolverFailed;
         result.message = "filter factorisation failed: " + filter_solver.message();
         rec.accepted = false;
         rec.note = result.message;
@@ -218,25 +253,25 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
         rec.seconds = seconds_since(t_step);
         result.steps.push_back(rec);
         result.status = MapStatus::SolverFailed;
-        result.failed_check = "solver";
+        result.failed_check = MapCheck::Solver;
+        result.stop = FlowStop::SolverFailed;
         result.message = "step " + std::to_string(step) + ": " + eig.message;
         stopped = true;
         break;
       }
       // New positions: divergence of the transformed edges, pinned Poisson solve.
       t0 = Clock::now();
-      Eigen::MatrixX3d omega = spin_divergence(state.x, faces, state.cot, lambda);
+      Eigen::MatrixX3d omega = spin_divergence(state.x, state.edges, lambda);
       omega.row(0).setZero();
       Eigen::SparseMatrix<double> pinned;  // scoped to the step: not alive during the next Dirac factorisation
       pin_vertex(state.laplacian, 0, pinned);
       SurfaceState next;
-      bool poisson_ok = poisson_solver.factorize(pinned);
+      bool poisson_ok = poisson_solver.analyze(pinned) && poisson_solver.factorize(pinned);
       if (poisson_ok) {
         next.x = poisson_solver.solve(omega);
         poisson_solver.release_values();
         normalise_area_and_centre(next.x, faces);
-        next.laplacian = state.laplacian;
-        update_state(pattern, faces, next);
+        update_state(faces, laplacian, next);
       }
       rec.poisson_seconds = seconds_since(t0);
       if (!poisson_ok) {
@@ -245,7 +280,8 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
         rec.seconds = seconds_since(t_step);
         result.steps.push_back(rec);
         result.status = MapStatus::SolverFailed;
-        result.failed_check = "solver";
+        result.failed_check = MapCheck::Solver;
+        result.stop = FlowStop::SolverFailed;
         result.message = "step " + std::to_string(step) + ": " + rec.note;
         stopped = true;
         break;
@@ -272,9 +308,11 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
             // No step of any size lowers the energy: the flow has stalled at its discrete minimum. Like an energy
             // plateau this is a stop, not a failure; the map is judged by verification (spherical-map.md §7).
             result.message = "stalled: " + result.message;
+            result.stop = FlowStop::EnergyStall;
           } else {
             result.status = MapStatus::NotConverged;
-            result.failed_check = reject;
+            result.failed_check = reject == "non_finite" ? MapCheck::NonFinite : MapCheck::EigenResidual;
+            result.stop = FlowStop::RejectedSteps;
           }
           stopped = true;
           break;
@@ -290,13 +328,16 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
       result.roundness = state.roundness;
       if (state.roundness < options.roundness_tolerance) {
         stopped = true;
+        result.stop = FlowStop::Converged;
       } else if ((previous_energy - state.energy) < options.energy_tolerance * previous_energy) {
         stopped = true;  // energy plateau: further steps change nothing
+        result.stop = FlowStop::EnergyPlateau;
         result.message = "stalled: energy decrease below " + std::to_string(options.energy_tolerance) +
                          " at roundness " + std::to_string(state.roundness);
       } else if (previous_roundness - state.roundness < options.roundness_stall * previous_roundness &&
                  previous_energy - state.energy < options.roundness_stall_energy * previous_energy) {
         stopped = true;  // roundness plateau
+        result.stop = FlowStop::RoundnessPlateau;
         result.message = "stalled: roundness " + std::to_string(state.roundness) + " fell by less than " +
                          std::to_string(options.roundness_stall) + " of itself in step " + std::to_string(step);
       }
@@ -305,7 +346,8 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
   if (result.status == MapStatus::Ok && !stopped && state.roundness >= options.roundness_tolerance) {
     result.hit_step_cap = true;
     result.status = MapStatus::NotConverged;
-    result.failed_check = "roundness";
+    result.failed_check = MapCheck::Roundness;
+    result.stop = FlowStop::StepCap;
     result.message = "roundness " + std::to_string(state.roundness) + " above tolerance " +
                      std::to_string(options.roundness_tolerance) + " after " + std::to_string(options.max_steps) +
                      " steps";

@@ -24,7 +24,9 @@ namespace wish::spherical {
 
 // `start` (optional): flowed positions to continue from (input connectivity), e.g. the surface of an earlier
 // attempt that ran out of steps ("more steps" in the fallback chain) — saves re-running those steps.
+// `budget`: soft limit (the flow stops with FlowStop::TimeBudget, keeping its surface); `laplacian`: the operator behind L, M and the Poisson step (intrinsic_laplacian.hpp).
 FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver,
-                         const Deadline& deadline = {}, const Eigen::MatrixX3d* start = nullptr);
+                         const geometry::IntrinsicOptions& laplacian = {}, const Deadline& deadline = {},
+                         const Eigen::MatrixX3d* start = nullptr, const Deadline& budget = {});
 
 }  // namespace wish::spherical

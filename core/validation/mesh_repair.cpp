@@ -113,9 +113,10 @@ std::vector<ValidationIssue> find_issues(const MeshReport& r) {
     add("inconsistent_orientation",
         "faces are not consistently oriented: " + plural(r.misoriented_edges, "edge is", "edges are") + " traversed twice in the same direction",
         {{"misoriented_edges", r.misoriented_edges}});
-  if (r.degenerate_faces > 0)
-    add("degenerate_faces", plural(r.degenerate_faces, "degenerate face", "degenerate faces") + " (a repeated vertex or zero area)",
-        {{"degenerate_faces", r.degenerate_faces}});
+  // Zero-area faces are geometry, which the map survives (mollified operators); a face repeating a vertex is not.
+  if (const std::int64_t repeated = r.degenerate_faces - r.zero_area_faces; repeated > 0)
+    add("degenerate_faces", plural(repeated, "degenerate face repeats", "degenerate faces repeat") + " a vertex",
+        {{"degenerate_faces", repeated}});
   if (r.genus && *r.genus > 0)
     add("genus_nonzero",
         "genus " + count_text(*r.genus) + " (Euler characteristic " + count_text(r.euler_characteristic) + "): only genus-0 surfaces map to a sphere",

@@ -66,7 +66,10 @@ MeshReport analyze_mesh(const Mesh& mesh) {
                           b = mesh.vertices.row(mesh.faces(f, 1)).transpose() - centre,
                           c = mesh.vertices.row(mesh.faces(f, 2)).transpose() - centre;
     const Eigen::Vector3d n = (b - a).cross(c - a);
-    if (n.squaredNorm() == 0) ++r.degenerate_faces;  // exactly zero area: collinear or coincident corners
+    if (n.squaredNorm() == 0) {  // exactly zero area: collinear or coincident corners
+      ++r.degenerate_faces;
+      ++r.zero_area_faces;
+    }
     area2 += n.norm();
     volume6 += a.dot(b.cross(c));
     std::array<int, 3> key{mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)};

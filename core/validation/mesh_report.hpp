@@ -22,6 +22,9 @@ struct MeshReport {
   std::int64_t euler_characteristic = 0;  // V - E + F (referenced vertices only)
   std::optional<std::int64_t> genus;      // (2 - chi) / 2 for a closed, connected, manifold mesh; else none
   std::int64_t degenerate_faces = 0;      // repeated index or zero area
+  // Added: of those, faces with three distinct vertices and exactly zero area (e.g. a vertex duplicated at its
+  // twin's position). They do not make a mesh unmappable: the map's operators mollify them (reported with the map).
+  std::int64_t zero_area_faces = 0;
   std::int64_t duplicate_faces = 0;       // same vertex set as an earlier face
   std::int64_t unreferenced_vertices = 0;
   std::int64_t duplicate_vertices = 0;    // exactly equal positions
@@ -34,7 +37,8 @@ struct MeshReport {
 
 // One reason a mesh cannot be mapped; `code` is machine-readable ("genus_nonzero", "not_closed",
 // "multiple_components", "non_manifold_edge", "non_manifold_vertex", "inconsistent_orientation",
-// "degenerate_faces", "too_small"), `message` a sentence with numbers.
+// "degenerate_faces" (a face repeating a vertex; zero-area faces are accepted), "too_small"), `message` a sentence
+// with numbers.
 struct ValidationIssue {
   std::string code;
   std::string message;

@@ -26,7 +26,7 @@ TEST(LinearMap, EllipsoidMapsBijectivelyWithBoundedDistortion) {
   o.method = MapMethod::Linear;
   o.fallback = false;
   const SphericalMapResult r = compute_spherical_map(ellipsoid, o);
-  EXPECT_TRUE(r.ok()) << r.failed_check;
+  EXPECT_TRUE(r.ok()) << to_string(r.failed_check);
   EXPECT_EQ(r.method_used, MapMethod::Linear);
   EXPECT_EQ(r.quality.flipped_faces, 0);
   EXPECT_EQ(r.quality.degree, 1);
@@ -98,6 +98,8 @@ TEST(FallbackChain, RecordsEveryAttemptAndReturnsTheChosenOne) {
   const Mesh ellipsoid = testing::make_ellipsoid(1.0, 0.7, 0.5, 3);
   SphericalMapOptions o;
   o.verification.max_conformal_p99 = 1.0;
+  o.verification.strict_conformal_bound = true;  // the bound refuses only when asked to
+  o.flow_budget_seconds = 0;
   const SphericalMapResult r = compute_spherical_map(ellipsoid, o);
   EXPECT_FALSE(r.ok());
   ASSERT_GE(r.attempts.size(), 3u);
@@ -107,10 +109,11 @@ TEST(FallbackChain, RecordsEveryAttemptAndReturnsTheChosenOne) {
   ASSERT_LT(r.chosen_attempt, static_cast<int>(r.attempts.size()));
   const MapAttempt& chosen = r.attempts[static_cast<size_t>(r.chosen_attempt)];
   EXPECT_EQ(r.status, chosen.status);
-  EXPECT_EQ(r.failed_check, "conformal_distortion");
+  EXPECT_EQ(r.failed_check, MapCheck::ConformalDistortion);
+  EXPECT_EQ(r.verdict, MapVerdict::Distorted);
   EXPECT_EQ(r.quality.conformal_p99, chosen.quality.conformal_p99);
   for (const MapAttempt& a : r.attempts) {
-    EXPECT_FALSE(a.failed_check.empty());
+    EXPECT_NE(a.failed_check, MapCheck::None);
     EXPECT_GE(a.quality.conformal_p99, chosen.quality.conformal_p99);  // least bad: lowest K among bijective maps
   }
 }

@@ -29,24 +29,17 @@ std::vector<std::filesystem::path> sweep_meshes(const std::filesystem::path& roo
 }
 
 // Meshes that defeat every method of the chain, reported to the lead with their figures (printed by this test).
-// `bijective`: the returned map still has 0 flipped, 0 degenerate faces and degree 1 — only the distortion bound
-// (K p99 <= max_conformal_p99) fails, and everything else is asserted strictly; otherwise nothing is asserted
-// beyond the printed figures.
+// Nothing is asserted for them beyond the printed figures (and that they still fail: remove them when fixed).
+// Distortion is no failure any more (a verdict); bull, cow, man, part (K p99 6-9) and camel (cMCF, 0 flips after the
+// mollified operator) now pass.
 struct KnownFailure {
   const char* name;
-  bool bijective;
   const char* why;
 };
 const std::vector<KnownFailure> kKnownFailures = {
-    // Linear method bijective, K p99 6-9: many obtuse input triangles (8-10 % negative cot weights clamped).
-    {"genus0_closed/bull.off", true, "bijective (linear), K p99 ~6.7"},
-    {"genus0_closed/cow.off", true, "bijective (linear), K p99 ~8.4"},
-    {"genus0_closed/man.off", true, "bijective (linear), K p99 ~6.2"},
-    {"genus0_closed/part.off", true, "bijective (linear), K p99 ~7.0"},
-    // Conformal compression of the legs below double precision (planar harmonic map already has zero-area faces).
-    {"genus0_closed/camel.off", false, "flips in every method"},
-    // Needle/fan CAD mesh (26 % negative cot weights): 180-degree angles keep their huge circumcircles.
-    {"genus0_closed/oblong.off", false, "1-3 flips in every method"},
+    // Needle/fan CAD mesh (76 negative cot weights of 1260): 2-3 flipped sphere triangles in every method, also
+    // the clamped Tutte map (near-180-degree angles whose flat chord triangles face the origin).
+    {"genus0_closed/oblong.off", "2-3 flips in every method"},
 };
 
 const KnownFailure* known_failure(const std::string& name) {
@@ -64,6 +57,7 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
     ASSERT_GE(meshes.size(), 40u);
   }
   int fixed_by_fallback = 0, swept = 0;
+  std::vector<std::string> distorted;  // accepted with the verdict "distorted"
   const auto t_sweep = std::chrono::steady_clock::now();
   for (const auto& path : meshes) {
     const std::string name = std::filesystem::relative(path, root).string();
@@ -73,9 +67,14 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
     PreparedMesh prepared = prepare_for_mapping(read_mesh_file(path).mesh);
     ASSERT_TRUE(prepared.mappable()) << prepared.issues.front().message;
     const auto t0 = std::chrono::steady_clock::now();
-    const SphericalMapResult r = compute_spherical_map(prepared.mesh);
+    // No flow budget here: this test is about correctness on a shared, loaded machine, where a wall-clock budget
+    // would cut the nuclei's Willmore flows; the time is measured by bench/map_collection_bench.
+    SphericalMapOptions options;
+    options.flow_budget_seconds = 0;
+    const SphericalMapResult r = compute_spherical_map(prepared.mesh, options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const MapAttempt& first = r.attempts.front();
+    if (r.verdict == MapVerdict::Distorted) distorted.push_back(name + " K p99 " + std::to_string(r.quality.conformal_p99));
     int steps = 0;
     for (const auto& a : r.attempts) steps += static_cast<int>(a.steps.size());
     std::printf("[sweep] %-44s V=%6ld %-8s attempts=%zu steps=%3d flips=%ld degen=%ld minA=%.1e K mean/p99=%.3f/%.3f "
@@ -84,7 +83,7 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
                 r.attempts.size(), steps, r.quality.flipped_faces, r.quality.degenerate_faces, r.quality.min_face_area,
                 r.quality.conformal_mean, r.quality.conformal_p99, r.quality.roundness, seconds, to_string(r.status),
                 first.status == MapStatus::Ok ? "" : (" (first: " + std::string(to_string(first.status)) + " " +
-                                                      first.failed_check + ")").c_str());
+                                                      to_string(first.failed_check) + ")").c_str());
     if (r.attempts.size() > 1 || std::getenv("WISH_SWEEP_STEPS"))
       for (size_t k = 0; k < r.attempts.size(); ++k) {
         const MapAttempt& a = r.attempts[k];
@@ -93,7 +92,7 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
                     k, to_string(a.method), a.filtered ? " (filt)" : "       ", a.steps.size(), a.quality.flipped_faces,
                     a.quality.degenerate_faces, a.quality.repaired_vertices, a.quality.min_face_height,
                     a.quality.conformal_p99, a.quality.roundness,
-                    a.seconds, to_string(a.status), a.failed_check.c_str());
+                    a.seconds, to_string(a.status), to_string(a.failed_check));
         if (std::getenv("WISH_SWEEP_STEPS"))
           for (const FlowStepRecord& s : a.steps)
             std::printf("[sweep]       step %2d tau %.3f E/4pi %.5f R %.2e %s %s\n", s.step, s.tau,
@@ -101,25 +100,24 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
       }
     std::fflush(stdout);
     if (first.status != MapStatus::Ok) {
-      EXPECT_FALSE(first.failed_check.empty());  // a failure is always named
+      EXPECT_NE(first.failed_check, MapCheck::None);  // a failure is always named
       ++fixed_by_fallback;
     }
     const bool paper_mesh = name.find("nmv_nuclei") != std::string::npos || name.find("celegans_cell") != std::string::npos;
     if (paper_mesh) {
       EXPECT_EQ(first.status, MapStatus::Ok) << "nuclei and the cell must map on the first attempt: "
-                                             << first.failed_check << ": " << first.message;
+                                             << to_string(first.failed_check) << ": " << first.message;
       EXPECT_EQ(first.method, MapMethod::Willmore);
     }
     if (const KnownFailure* known = known_failure(name)) {
       std::printf("[sweep]    KNOWN FAILURE %s (%s): returned %s [%s], flips %ld, degenerate %ld, degree %d, K p99 %.2f\n",
-                  name.c_str(), known->why, to_string(r.status), r.failed_check.c_str(), r.quality.flipped_faces,
+                  name.c_str(), known->why, to_string(r.status), to_string(r.failed_check), r.quality.flipped_faces,
                   r.quality.degenerate_faces, r.quality.degree, r.quality.conformal_p99);
       EXPECT_FALSE(r.ok()) << "a known failure now passes: remove it from kKnownFailures";
-      if (!known->bijective) continue;
-      EXPECT_EQ(r.failed_check, "conformal_distortion");
-    } else {
-      EXPECT_TRUE(r.ok()) << r.failed_check << ": " << r.attempts[static_cast<size_t>(r.chosen_attempt)].message;
+      continue;
     }
+    EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts[static_cast<size_t>(r.chosen_attempt)].message;
+    EXPECT_NE(r.verdict, MapVerdict::Failed);
     EXPECT_EQ(r.quality.flipped_faces, 0);
     EXPECT_EQ(r.quality.degenerate_faces, 0);
     EXPECT_EQ(r.quality.non_finite_vertices, 0);
@@ -129,6 +127,8 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sweep).count();
   std::printf("[sweep] %d meshes, %d needed the fallback, %.1f s\n", swept, fixed_by_fallback, total);
+  std::printf("[sweep] %zu accepted with the verdict distorted:\n", distorted.size());
+  for (const std::string& d : distorted) std::printf("[sweep]    %s\n", d.c_str());
 }
 
 }  // namespace

@@ -53,7 +53,7 @@ TEST(WillmoreFlow, SphereStaysSphere) {
   EXPECT_LT(r.quality.conformal_max, 1.01);
   EXPECT_EQ(r.quality.flipped_faces, 0);
   EXPECT_EQ(r.status, MapStatus::NotConverged);  // roundness tolerance 0 cannot be met: reported, not hidden
-  EXPECT_EQ(r.failed_check, "roundness");
+  EXPECT_EQ(r.failed_check, MapCheck::Roundness);
 }
 
 TEST(WillmoreFlow, EllipsoidThresholdsEnergyMonotoneRoundnessFalls) {
@@ -109,7 +109,7 @@ TEST(WillmoreFlow, ReversedCurvatureChangeRaisesEnergy) {
 TEST(WillmoreFlow, DefaultMapIsOkBijectiveAndBalanced) {
   const Mesh shape = bumpy_shape(4);
   const SphericalMapResult r = compute_spherical_map(shape);
-  ASSERT_TRUE(r.ok()) << r.failed_check << " " << r.attempts.back().message;
+  ASSERT_TRUE(r.ok()) << to_string(r.failed_check) << " " << r.attempts.back().message;
   EXPECT_EQ(r.method_used, MapMethod::Willmore);
   EXPECT_EQ(r.attempts.size(), 1u);
   EXPECT_EQ(r.quality.flipped_faces, 0);
@@ -209,12 +209,12 @@ TEST(MapVerification, DetectsReflectionAndCollapse) {
   const MapQuality q = spherical::measure_map(sphere.vertices, sphere.faces, mirrored, {});
   EXPECT_EQ(q.flipped_faces, sphere.face_count());
   EXPECT_EQ(q.degree, -1);
-  EXPECT_EQ(spherical::failed_map_check(q, {}), "flipped_faces");
+  EXPECT_EQ(spherical::failed_map_check(q, {}), MapCheck::FlippedFaces);
   const MapQuality id = spherical::measure_map(sphere.vertices, sphere.faces, sphere.vertices, {});
   EXPECT_EQ(id.flipped_faces, 0);
   EXPECT_NEAR(id.conformal_max, 1.0, 1e-9);
   EXPECT_NEAR(id.area_distortion, 1.0, 1e-9);
-  EXPECT_TRUE(spherical::failed_map_check(id, {}).empty());
+  EXPECT_EQ(spherical::failed_map_check(id, {}), MapCheck::None);
   Eigen::MatrixX3d collapsed = sphere.vertices;
   collapsed.row(sphere.faces(0, 0)) = collapsed.row(sphere.faces(0, 1));
   EXPECT_GT(spherical::measure_map(sphere.vertices, sphere.faces, collapsed, {}).degenerate_faces, 0);

@@ -1,0 +1,114 @@
+// Map acceptance and time over mesh collections (issue 11): one row per directory and one for all of them.
+//   map_collection_bench DIR [DIR...]      (recursive; .off .obj .ply .stl)
+// Per mesh: read → prepare_for_mapping → compute_spherical_map with the default options. Columns: meshes found,
+// accepted by validation (closed genus-0 manifold), 0-flip rate and Ok rate of the accepted, map time median / p95
+// / max (seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1), the method each map ended on, the
+// verdicts, and the K p99 distribution (median / p90 / max over bijective maps). Refusal codes are counted below.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/common/errors.hpp"
+#include "core/io/mesh_io.hpp"
+#include "core/spherical_map/spherical_map.hpp"
+#include "core/validation/mesh_report.hpp"
+
+namespace {
+
+struct Row {
+  std::string name;
+  int found = 0, accepted = 0, zero_flips = 0, ok = 0;
+  std::vector<double> seconds, k_p99;
+  std::map<std::string, int> methods, verdicts, refusals;
+};
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+}
+
+std::string counts(const std::map<std::string, int>& m) {
+  std::string s;
+  for (const auto& [k, n] : m) s += (s.empty() ? "" : " ") + k + ":" + std::to_string(n);
+  return s.empty() ? "-" : s;
+}
+
+void map_one(const std::filesystem::path& path, Row& row, Row& all) {
+  ++row.found;
+  ++all.found;
+  wish::PreparedMesh prepared;
+  try {
+    prepared = wish::prepare_for_mapping(wish::read_mesh_file(path).mesh);
+  } catch (const wish::WishError& e) {
+    ++row.refusals[e.code()];
+    ++all.refusals[e.code()];
+    return;
+  }
+  if (!prepared.mappable()) {
+    ++row.refusals[prepared.issues.front().code];
+    ++all.refusals[prepared.issues.front().code];
+    return;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const wish::SphericalMapResult r = wish::compute_spherical_map(prepared.mesh);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (Row* x : {&row, &all}) {
+    ++x->accepted;
+    x->seconds.push_back(s);
+    const bool bijective = r.quality.flipped_faces == 0 && r.quality.degenerate_faces == 0 && r.quality.degree == 1 &&
+                           r.quality.non_finite_vertices == 0;
+    x->zero_flips += r.quality.flipped_faces == 0;
+    x->ok += r.ok();
+    if (bijective) x->k_p99.push_back(r.quality.conformal_p99);
+    ++x->methods[wish::to_string(r.method_used)];
+    ++x->verdicts[wish::to_string(r.verdict)];
+  }
+  std::fprintf(stderr, "%-60s V=%7ld %-8s %-9s flips %ld K p99 %.2f %.2fs\n", path.string().c_str(),
+               static_cast<long>(prepared.mesh.vertex_count()), wish::to_string(r.method_used),
+               wish::to_string(r.verdict), r.quality.flipped_faces, r.quality.conformal_p99, s);
+}
+
+void print(const Row& r) {
+  const double n = std::max(1, r.accepted);
+  std::printf("| %-28s | %5d | %5d | %6.1f %% | %6.1f %% | %5.2f / %5.2f / %6.2f | %-30s | %-36s | %6.2f / %6.2f / %8.2f |\n",
+              r.name.c_str(), r.found, r.accepted, 100.0 * r.zero_flips / n, 100.0 * r.ok / n, quantile(r.seconds, 0.5),
+              quantile(r.seconds, 0.95), r.seconds.empty() ? 0.0 : *std::max_element(r.seconds.begin(), r.seconds.end()),
+              counts(r.methods).c_str(), counts(r.verdicts).c_str(), quantile(r.k_p99, 0.5), quantile(r.k_p99, 0.9),
+              r.k_p99.empty() ? 0.0 : *std::max_element(r.k_p99.begin(), r.k_p99.end()));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s DIR [DIR...]\n", argv[0]);
+    return 2;
+  }
+  std::vector<Row> rows;
+  Row all;
+  all.name = "all";
+  for (int i = 1; i < argc; ++i) {
+    Row row;
+    row.name = std::filesystem::path(argv[i]).filename().string();
+    if (row.name.empty()) row.name = argv[i];
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(argv[i])) {
+      const std::string ext = e.path().extension().string();
+      if (e.is_regular_file() && (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".stl")) files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) map_one(f, row, all);
+    rows.push_back(std::move(row));
+  }
+  std::printf("| collection | found | accepted | 0-flip | ok | map s median / p95 / max | methods | verdicts | K p99 median / p90 / max |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) print(r);
+  if (rows.size() > 1) print(all);
+  std::printf("\nrefused by validation or reading: %s\n", counts(all.refusals).c_str());
+  return 0;
+}

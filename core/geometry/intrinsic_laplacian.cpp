@@ -1,0 +1,301 @@
+// Intrinsic mollification + intrinsic Delaunay edge flips on a halfedge Δ-complex (see the header for the methods).
+// Halfedge h = 3f + k of face f runs from corner k to corner k+1; its length is stored per halfedge (equal on
+// both halves of an edge).
+#include "core/geometry/intrinsic_laplacian.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+
+#include "core/common/errors.hpp"
+
+namespace wish::geometry {
+
+const char* to_string(LaplacianKind kind) {
+  switch (kind) {
+    case LaplacianKind::Extrinsic: return "extrinsic";
+    case LaplacianKind::Mollified: return "mollified";
+    case LaplacianKind::IntrinsicDelaunay: return "intrinsic_delaunay";
+  }
+  return "?";
+}
+
+LaplacianKind laplacian_kind_from_name(const char* name) {
+  const std::string n = name;
+  if (n == "extrinsic") return LaplacianKind::Extrinsic;
+  if (n == "mollified") return LaplacianKind::Mollified;
+  if (n == "intrinsic_delaunay") return LaplacianKind::IntrinsicDelaunay;
+  throw InvalidInputError("invalid_parameter",
+                          "unknown Laplacian '" + n + "' (expected extrinsic, mollified or intrinsic_delaunay)",
+                          {{"laplacian", n}});
+}
+
+double triangle_area_from_lengths(double a, double b, double c) {
+  // Kahan: sort a ≥ b ≥ c, A = ¼ √((a+(b+c))(c−(a−b))(c+(a−b))(a+(b−c))).
+  if (a < b) std::swap(a, b);
+  if (a < c) std::swap(a, c);
+  if (b < c) std::swap(b, c);
+  const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+  return p > 0 ? 0.25 * std::sqrt(p) : 0.0;
+}
+
+Eigen::VectorXd mollified_face_areas(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
+                                     double mollify_delta) {
+  const Eigen::Index nf = faces.rows();
+  Eigen::MatrixX3d l(nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) l(f, k) = (vertices.row(faces(f, (k + 1) % 3)) - vertices.row(faces(f, k))).norm();
+  const double margin = nf > 0 ? mollify_delta * l.mean() : 0.0;
+  double eps = 0;
+  for (Eigen::Index f = 0; f < nf; ++f)
+    eps = std::max(eps, margin - std::min({l(f, 0) + l(f, 1) - l(f, 2), l(f, 1) + l(f, 2) - l(f, 0),
+                                           l(f, 2) + l(f, 0) - l(f, 1)}));
+  Eigen::VectorXd areas(nf);
+  for (Eigen::Index f = 0; f < nf; ++f) areas[f] = triangle_area_from_lengths(l(f, 0) + eps, l(f, 1) + eps, l(f, 2) + eps);
+  return areas;
+}
+
+namespace {
+
+// Cotangent of the angle opposite side c in the triangle with sides a, b, c: (a² + b² − c²) / (4A).
+double cot_opposite(double a, double b, double c) {
+  const double area = triangle_area_from_lengths(a, b, c);
+  return (a * a + b * b - c * c) / (4.0 * area);
+}
+
+struct HalfedgeMesh {
+  std::vector<std::array<int, 3>> face;  // corner vertices
+  std::vector<int> twin;                 // per halfedge
+  std::vector<double> length;            // per halfedge
+
+  static int next(int h) { return 3 * (h / 3) + (h % 3 + 1) % 3; }
+  int tail(int h) const { return face[static_cast<size_t>(h / 3)][static_cast<size_t>(h % 3)]; }
+  double len(int h) const { return length[static_cast<size_t>(h)]; }
+  // cot of the corner opposite halfedge h in its face.
+  double cot_opposite_of(int h) const {
+    const int h1 = next(h), h2 = next(h1);
+    return cot_opposite(len(h1), len(h2), len(h));
+  }
+  double edge_cot_sum(int h) const { return cot_opposite_of(h) + cot_opposite_of(twin[static_cast<size_t>(h)]); }
+};
+
+HalfedgeMesh build(const Eigen::MatrixX3i& faces) {
+  HalfedgeMesh m;
+  const Eigen::Index nf = faces.rows();
+  m.face.resize(static_cast<size_t>(nf));
+  m.twin.assign(static_cast<size_t>(3 * nf), -1);
+  m.length.assign(static_cast<size_t>(3 * nf), 0.0);
+  std::unordered_map<std::uint64_t, int> directed;
+  directed.reserve(static_cast<size_t>(3 * nf));
+  auto key = [](int a, int b) { return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b); };
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      m.face[static_cast<size_t>(f)][static_cast<size_t>(k)] = faces(f, k);
+      directed[key(faces(f, k), faces(f, (k + 1) % 3))] = static_cast<int>(3 * f + k);
+    }
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto it = directed.find(key(faces(f, (k + 1) % 3), faces(f, k)));
+      if (it == directed.end())
+        throw InvalidInputError("not_closed", "intrinsic Laplacian: edge (" + std::to_string(faces(f, k)) + ", " +
+                                                  std::to_string(faces(f, (k + 1) % 3)) +
+                                                  ") has no opposite halfedge (the mesh must be closed and oriented)");
+      m.twin[static_cast<size_t>(3 * f + k)] = it->second;
+    }
+  return m;
+}
+
+// Flips the edge of halfedge h (faces f0 = (a, b, c) with h = a→b, f1 = (b, a, d) with twin b→a) into the
+// diagonal c–d: new faces (d, b, c) and (c, a, d). The new length is |c − d| with both triangles laid out flat
+// on either side of ab. Returns false (and changes nothing) when the layout is not a proper flip.
+bool flip(HalfedgeMesh& m, int h, std::vector<int>& degree) {
+  const int t = m.twin[static_cast<size_t>(h)];
+  const int f0 = h / 3, f1 = t / 3;
+  if (f0 == f1) return false;
+  const int h1 = HalfedgeMesh::next(h), h2 = HalfedgeMesh::next(h1);
+  const int t1 = HalfedgeMesh::next(t), t2 = HalfedgeMesh::next(t1);
+  const int a = m.tail(h), b = m.tail(h1), c = m.tail(h2), d = m.tail(t2);
+  if (degree[static_cast<size_t>(a)] < 3 || degree[static_cast<size_t>(b)] < 3) return false;
+  const double lab = m.len(h), lbc = m.len(h1), lca = m.len(h2), lad = m.len(t1), ldb = m.len(t2);
+  const double cx = (lab * lab + lca * lca - lbc * lbc) / (2 * lab);
+  const double cy = std::sqrt(std::max(0.0, lca * lca - cx * cx));
+  const double dx = (lab * lab + lad * lad - ldb * ldb) / (2 * lab);
+  const double dy = -std::sqrt(std::max(0.0, lad * lad - dx * dx));
+  const double lcd = std::hypot(cx - dx, cy - dy);
+  // Both new triangles must be proper (the quad is convex at a and b for a non-Delaunay edge; checked anyway).
+  if (!(lcd > 0) || !std::isfinite(lcd) || triangle_area_from_lengths(ldb, lbc, lcd) <= 0 ||
+      triangle_area_from_lengths(lca, lad, lcd) <= 0)
+    return false;
+  // Old halfedges keep their outer twins; new slots: f0 = (d→b, b→c, c→d), f1 = (c→a, a→d, d→c).
+  const std::array<int, 4> old_outer{t2, h1, h2, t1};
+  const std::array<int, 4> new_slot{3 * f0 + 0, 3 * f0 + 1, 3 * f1 + 0, 3 * f1 + 1};
+  std::array<int, 4> outer_twin{};
+  std::array<double, 4> outer_len{};
+  for (int k = 0; k < 4; ++k) {
+    outer_twin[static_cast<size_t>(k)] = m.twin[static_cast<size_t>(old_outer[static_cast<size_t>(k)])];
+    outer_len[static_cast<size_t>(k)] = m.len(old_outer[static_cast<size_t>(k)]);
+  }
+  m.face[static_cast<size_t>(f0)] = {d, b, c};
+  m.face[static_cast<size_t>(f1)] = {c, a, d};
+  for (int k = 0; k < 4; ++k) {
+    int tw = outer_twin[static_cast<size_t>(k)];
+    for (int j = 0; j < 4; ++j)  // a twin inside the flipped pair moves with it
+      if (tw == old_outer[static_cast<size_t>(j)]) {
+        tw = new_slot[static_cast<size_t>(j)];
+        break;
+      }
+    const int s = new_slot[static_cast<size_t>(k)];
+    m.twin[static_cast<size_t>(s)] = tw;
+    m.twin[static_cast<size_t>(tw)] = s;
+    m.length[static_cast<size_t>(s)] = outer_len[static_cast<size_t>(k)];
+  }
+  const int e0 = 3 * f0 + 2, e1 = 3 * f1 + 2;  // c→d and d→c
+  m.twin[static_cast<size_t>(e0)] = e1;
+  m.twin[static_cast<size_t>(e1)] = e0;
+  m.length[static_cast<size_t>(e0)] = m.length[static_cast<size_t>(e1)] = lcd;
+  --degree[static_cast<size_t>(a)];
+  --degree[static_cast<size_t>(b)];
+  ++degree[static_cast<size_t>(c)];
+  ++degree[static_cast<size_t>(d)];
+  return true;
+}
+
+}  // namespace
+
+IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
+                                     const IntrinsicOptions& options) {
+  IntrinsicOperator out;
+  IntrinsicStats& stats = out.stats;
+  stats.kind = options.kind;
+  const Eigen::Index nv = vertices.rows(), nf = faces.rows();
+  HalfedgeMesh m = build(faces);
+  stats.edges = static_cast<long>(3 * nf / 2);
+
+  // 1. Lengths and mollification.
+  double mean = 0;
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const double l = (vertices.row(faces(f, (k + 1) % 3)) - vertices.row(faces(f, k))).norm();
+      m.length[static_cast<size_t>(3 * f + k)] = l;
+      mean += l;
+    }
+  mean = nf > 0 ? mean / static_cast<double>(3 * nf) : 1.0;
+  const double margin = options.kind == LaplacianKind::Extrinsic ? 0.0 : options.mollify_delta * mean;
+  double eps = 0;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const double l0 = m.len(static_cast<int>(3 * f)), l1 = m.len(static_cast<int>(3 * f + 1)),
+                 l2 = m.len(static_cast<int>(3 * f + 2));
+    const double slack = std::min({l0 + l1 - l2, l1 + l2 - l0, l2 + l0 - l1});
+    const Eigen::Vector3d p0 = vertices.row(faces(f, 0)), p1 = vertices.row(faces(f, 1)), p2 = vertices.row(faces(f, 2));
+    if (!((p1 - p0).cross(p2 - p0).norm() > 1e-14 * mean * mean)) ++stats.zero_area_faces;
+    if (slack < margin) ++stats.mollified_faces;
+    eps = std::max(eps, margin - slack);
+  }
+  if (eps > 0)
+    for (double& l : m.length) l += eps;
+  stats.epsilon = eps;
+  stats.relative_epsilon = eps / mean;
+
+  // Input-face areas and cotangents from the (mollified) lengths.
+  out.input_face_areas.resize(nf);
+  out.input_cotangents.resize(nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const double l0 = m.len(static_cast<int>(3 * f)), l1 = m.len(static_cast<int>(3 * f + 1)),
+                 l2 = m.len(static_cast<int>(3 * f + 2));
+    out.input_face_areas[f] = triangle_area_from_lengths(l0, l1, l2);
+    // Corner k is opposite halfedge (k+1) (from corner k+1 to k+2).
+    for (int k = 0; k < 3; ++k) out.input_cotangents(f, k) = m.cot_opposite_of(static_cast<int>(3 * f + (k + 1) % 3));
+  }
+  for (size_t h = 0; h < m.twin.size(); ++h)
+    if (static_cast<int>(h) < m.twin[h] && m.edge_cot_sum(static_cast<int>(h)) < 0) ++stats.negative_weights_before;
+
+  // 2. Intrinsic Delaunay flips.
+  if (options.kind == LaplacianKind::IntrinsicDelaunay) {
+    std::vector<int> degree(static_cast<size_t>(nv), 0);
+    for (const auto& fc : m.face)
+      for (int v : fc) ++degree[static_cast<size_t>(v)];
+    std::deque<int> queue;
+    std::vector<char> queued(m.twin.size(), 0);
+    auto push = [&](int h) {
+      const int e = std::min(h, m.twin[static_cast<size_t>(h)]);
+      if (!queued[static_cast<size_t>(e)]) {
+        queued[static_cast<size_t>(e)] = 1;
+        queue.push_back(e);
+      }
+    };
+    for (size_t h = 0; h < m.twin.size(); ++h) push(static_cast<int>(h));
+    const long cap = static_cast<long>(options.max_flips_per_edge) * std::max<long>(1, stats.edges);
+    // Small tolerance: cocircular quads (cot sum ≈ 0) must not ping-pong.
+    const double tol = 1e-10;
+    while (!queue.empty()) {
+      const int e = queue.front();
+      queue.pop_front();
+      queued[static_cast<size_t>(e)] = 0;
+      // The edge may have moved slots since it was queued: re-read it at its current halfedge.
+      if (!(m.edge_cot_sum(e) < -tol)) continue;
+      if (stats.flips >= cap) {
+        stats.flip_cap_hit = true;
+        break;
+      }
+      const int t = m.twin[static_cast<size_t>(e)];
+      const int f0 = e / 3, f1 = t / 3;
+      if (!flip(m, e, degree)) continue;
+      ++stats.flips;
+      for (int k = 0; k < 2; ++k) {  // the four outer edges of the new pair
+        push(3 * f0 + k);
+        push(3 * f1 + k);
+      }
+    }
+  }
+
+  // 3. Assemble L and M on the (flipped) triangulation.
+  out.faces.resize(nf, 3);
+  out.mass = Eigen::VectorXd::Zero(nv);
+  std::unordered_map<std::uint64_t, double> weight;
+  weight.reserve(static_cast<size_t>(3 * nf));
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const auto& fc = m.face[static_cast<size_t>(f)];
+    for (int k = 0; k < 3; ++k) out.faces(f, k) = fc[static_cast<size_t>(k)];
+    const double area = triangle_area_from_lengths(m.len(static_cast<int>(3 * f)), m.len(static_cast<int>(3 * f + 1)),
+                                                   m.len(static_cast<int>(3 * f + 2)));
+    for (int k = 0; k < 3; ++k) out.mass[fc[static_cast<size_t>(k)]] += area / 3.0;
+  }
+  for (size_t h = 0; h < m.twin.size(); ++h) {
+    const int i = m.tail(static_cast<int>(h)), j = m.tail(HalfedgeMesh::next(static_cast<int>(h)));
+    if (i == j) continue;  // a loop edge of the Δ-complex: x_i − x_i = 0 contributes nothing
+    const int lo = std::min(i, j), hi = std::max(i, j);
+    weight[(static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi)] += 0.5 * m.cot_opposite_of(static_cast<int>(h));
+  }
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(4 * weight.size() + static_cast<size_t>(nv));
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
+  out.edges.reserve(weight.size());
+  for (const auto& [k, w0] : weight) {
+    double w = w0;
+    const int i = static_cast<int>(k >> 32), j = static_cast<int>(k & 0xffffffffu);
+    if (options.kind == LaplacianKind::IntrinsicDelaunay && w < 0) {
+      ++stats.negative_weights_after;  // only after a flip cap, or rounding on cocircular quads
+      w = 0;
+    }
+    out.edges.push_back({i, j, w});
+    triplets.emplace_back(i, j, -w);
+    triplets.emplace_back(j, i, -w);
+    diag[i] += w;
+    diag[j] += w;
+  }
+  for (Eigen::Index i = 0; i < nv; ++i) triplets.emplace_back(static_cast<int>(i), static_cast<int>(i), diag[i]);
+  out.laplacian.resize(nv, nv);
+  out.laplacian.setFromTriplets(triplets.begin(), triplets.end());
+  out.laplacian.makeCompressed();
+  std::sort(out.edges.begin(), out.edges.end(),
+            [](const IntrinsicEdgeWeight& p, const IntrinsicEdgeWeight& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
+  return out;
+}
+
+}  // namespace wish::geometry
