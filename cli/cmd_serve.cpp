@@ -63,7 +63,8 @@ CommandRunner setup_serve(CLI::App& sub) {
 }
 
 const bool registered = register_command(
-    {"serve", "Run the HTTP service (classify / describe over REST) on a worker pool", &setup_serve, 70});
+    {"serve", "Run the HTTP service (classify / describe over REST) on a worker pool", &setup_serve, 70,
+     /*takes_signals=*/true});
 
 }  // namespace
 }  // namespace wish::cli

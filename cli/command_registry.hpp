@@ -20,6 +20,9 @@ struct Command {
   std::string description;
   CommandRunner (*setup)(CLI::App& sub);
   int order = 100;  // position in --help
+  // true: the command takes SIGHUP / SIGTERM / SIGINT itself with sigwait and keeps them blocked in every thread
+  // (cli/signal_mask.hpp); false: they are unblocked before it runs (default actions).
+  bool takes_signals = false;
 };
 
 bool register_command(Command command);

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/command_registry.hpp"
+#include "cli/signal_mask.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish::cli {
@@ -34,10 +35,15 @@ int main(int argc, char** argv) {
 
   auto commands = registered_commands();
   std::stable_sort(commands.begin(), commands.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
-  std::vector<std::pair<CLI::App*, CommandRunner>> runners;
+  struct Runner {
+    CLI::App* sub;
+    CommandRunner run;
+    bool takes_signals;
+  };
+  std::vector<Runner> runners;
   for (const auto& command : commands) {
     CLI::App* sub = app.add_subcommand(command.name, command.description);
-    runners.emplace_back(sub, command.setup(*sub));
+    runners.push_back({sub, command.setup(*sub), command.takes_signals});
   }
   try {
     app.parse(argc, argv);
@@ -46,8 +52,11 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitUsage;
   }
   try {
-    for (auto& [sub, run] : runners)
-      if (sub->parsed()) return run();
+    for (auto& [sub, run, takes_signals] : runners) {
+      if (!sub->parsed()) continue;
+      if (!takes_signals) unblock_process_signals();
+      return run();
+    }
   } catch (const wish::WishError& e) {
     std::cerr << "wish: error [" << e.code() << "]: " << e.what() << "\n";
     return kExitInvalid;

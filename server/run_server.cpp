@@ -21,7 +21,7 @@
 namespace wish::server {
 
 int run_server(ServerConfig config) {
-  SignalWatcher::block_signals();  // handlers first: a SIGTERM during start-up must not kill the process
+  SignalWatcher::block_signals();  // before any thread: every thread inherits the mask (signals.hpp)
   config.finalize();
   configure_logging(config.json_log, config.log_level);
   set_retry_after_seconds(config.retry_after_seconds);

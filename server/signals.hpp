@@ -1,7 +1,14 @@
 #pragma once
 // Process signals for the service: SIGHUP reloads the models, SIGTERM / SIGINT start a graceful shutdown.
-// The async handler only writes the signal number into a pipe; one watcher thread reads it and runs the callbacks
-// as ordinary code (locks, logging, allocation are fine), never inside the signal handler.
+//
+// No signal handler is ever installed for them. SIGHUP, SIGTERM and SIGINT are blocked in every thread (the `wish`
+// executable blocks them before any library constructor can start a thread, see cli/signal_mask.cpp) and one watcher
+// thread takes them synchronously with sigtimedwait, then runs the callbacks as ordinary code. This makes the
+// service immune to libraries that swap process-wide handlers: GKlib (libmetis, called by CHOLMOD for every
+// ordering) installs `gk_sigthrow` for SIGTERM around each METIS call with signal() and restores the previous
+// handler afterwards; the save/restore is per thread but the handler is per process, so two workers ordering at
+// once can leave `gk_sigthrow` installed, and a later SIGTERM delivered to a thread outside METIS longjmps through
+// an unset jump buffer (gk_cur_jbufs == -1): SIGSEGV. A blocked signal never reaches any handler.
 
 #include <atomic>
 #include <functional>
@@ -11,8 +18,9 @@ namespace wish::server {
 
 class SignalWatcher {
  public:
-  // Installs the handlers for SIGHUP, SIGTERM and SIGINT (signals arriving before the watcher starts wait in the
-  // pipe) and ignores SIGPIPE (a client that hangs up must not kill the server). Idempotent; call early.
+  // Blocks SIGHUP, SIGTERM and SIGINT in the calling thread (threads created afterwards inherit the mask; signals
+  // arriving before the watcher starts stay pending) and ignores SIGPIPE (a client that hangs up must not kill the
+  // server). Idempotent; call before any thread is created.
   static void block_signals();
 
   SignalWatcher(std::function<void()> on_reload, std::function<void(int signal)> on_terminate);
