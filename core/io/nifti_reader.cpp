@@ -127,9 +127,10 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
   const std::uint64_t offset = static_cast<std::uint64_t>(vox_offset);
   const std::uint64_t need = offset + static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(byte_size(type));
   std::string_view data;
+  std::string inflated_data;  // not `inflated`: the header view `h` still points into that string
   if (gz) {
-    inflated = inflate_prefix(bytes, need);
-    data = inflated;
+    inflated_data = inflate_prefix(bytes, need);
+    data = inflated_data;
   } else {
     data = bytes;
   }
