@@ -29,14 +29,6 @@ def run_parallel(fn, n):
     return results
 
 
-def wait_for(predicate, timeout=20, interval=0.02):
-    end = time.time() + timeout
-    while time.time() < end:
-        if predicate():
-            return True
-        time.sleep(interval)
-    return False
-
 
 @unittest.skipIf(SKIP, SKIP or "")
 class ServerLoadTest(unittest.TestCase):
@@ -92,7 +84,7 @@ class ServerLoadTest(unittest.TestCase):
         with h.Server(args=["--workers", "1", "--queue-size", "0"]) as s:
             t = threading.Thread(target=lambda: s.post_mesh("/v1/describe", self.bear))
             t.start()
-            self.assertTrue(wait_for(lambda: s.metric("wish_workers_busy") == 1))
+            self.assertTrue(h.wait_for(lambda: s.metric("wish_workers_busy") == 1))
             r = s.request("GET", "/readyz")
             self.assertEqual(r.status, 503)
             self.assertIn(r.json()["error"]["code"], {"not_ready"})
@@ -156,7 +148,7 @@ class ServerLoadTest(unittest.TestCase):
                 t.start()
             # All n accepted (running or queued) before the signal; "in flight" alone also counts a request still
             # being parsed, which draining correctly refuses with 503 shutting_down.
-            self.assertTrue(wait_for(lambda: (s.metric("wish_workers_busy") or 0) + (s.metric("wish_queue_depth") or 0)
+            self.assertTrue(h.wait_for(lambda: (s.metric("wish_workers_busy") or 0) + (s.metric("wish_queue_depth") or 0)
                                      == n, timeout=30), "requests were not accepted")
             s.signal(signal.SIGTERM)
             for t in threads:
@@ -177,7 +169,7 @@ class ServerLoadTest(unittest.TestCase):
                 t.start()
             # Both jobs accepted (one running, one queued) before SIGTERM; "in flight" alone also counts a request
             # still being parsed, which draining refuses as shutting_down instead.
-            self.assertTrue(wait_for(lambda: (s.metric("wish_workers_busy") or 0) + (s.metric("wish_queue_depth") or 0) == 2))
+            self.assertTrue(h.wait_for(lambda: (s.metric("wish_workers_busy") or 0) + (s.metric("wish_queue_depth") or 0) == 2))
             t0 = time.time()
             s.signal(signal.SIGTERM)
             for t in threads:

@@ -92,7 +92,7 @@ class ServerSignalTest(unittest.TestCase):
                 self.assertEqual(statuses, [200] * 8)
                 reloads = reload_count(s)
                 s.signal(signal.SIGHUP)
-                self.assertTrue(wait_for(lambda: reload_count(s) > reloads),
+                self.assertTrue(h.wait_for(lambda: reload_count(s) > reloads),
                                 "SIGHUP did not reload: " + s.log_text()[-800:])
                 self.assertEqual(post(s.port, "/v1/classify", self.mesh), 200)  # still serving after the reload
                 s.signal(signal.SIGTERM)
@@ -119,11 +119,11 @@ class ServerSignalTest(unittest.TestCase):
                 threads = [threading.Thread(target=client) for _ in range(6)]
                 for t in threads:
                     t.start()
-                self.assertTrue(wait_for(lambda: (s.metric("wish_workers_busy") or 0) == 2, timeout=60))
+                self.assertTrue(h.wait_for(lambda: (s.metric("wish_workers_busy") or 0) == 2, timeout=60))
                 for _ in range(3):  # reloads while both workers are inside the flow (and METIS)
                     s.signal(signal.SIGHUP)
                     time.sleep(0.1)
-                self.assertTrue(wait_for(lambda: len(outcomes) >= 4, timeout=120))
+                self.assertTrue(h.wait_for(lambda: len(outcomes) >= 4, timeout=120))
                 s.signal(signal.SIGTERM)
                 for t in threads:
                     t.join(timeout=120)
@@ -142,14 +142,6 @@ class ServerSignalTest(unittest.TestCase):
 def reload_count(s):
     return sum(s.metric("wish_model_reloads_total", {"result": r}) or 0 for r in ("ok", "partial"))
 
-
-def wait_for(predicate, timeout=30, interval=0.05):
-    end = time.time() + timeout
-    while time.time() < end:
-        if predicate():
-            return True
-        time.sleep(interval)
-    return False
 
 
 if __name__ == "__main__":

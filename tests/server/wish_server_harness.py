@@ -24,6 +24,17 @@ CGAL = os.path.join(SHARED_DATA, "cgal")
 DEFAULT_MODEL = os.path.join(SOURCE_DIR, "data", "models", "default.json")
 
 
+def wait_for(predicate, timeout=30, interval=0.02):
+    """Polls predicate until it is true (returns True) or timeout seconds pass (returns False): tests wait for a
+    condition, never for a moment."""
+    end = time.time() + timeout
+    while time.time() < end:
+        if predicate():
+            return True
+        time.sleep(interval)
+    return False
+
+
 def shared(*parts):
     return os.path.join(CGAL, *parts)
 
