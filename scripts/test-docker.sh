@@ -51,5 +51,5 @@ echo "test-docker: image $nginx_image built; size $(docker image inspect -f '{{.
 modules=${WISH_DOCKER_TESTS:-"test_container test_scale_out_containers"}
 cd tests/deploy
 # shellcheck disable=SC2086
-WISH_IMAGE="$image" WISH_NGINX_IMAGE="$nginx_image" WISH_SOURCE_DIR="$root" PYTHONPATH="$root/clients/python${PYTHONPATH:+:$PYTHONPATH}" \
+WISH_IMAGE="$image" WISH_NGINX_IMAGE="$nginx_image" WISH_SOURCE_DIR="$root" PYTHONPATH="$root/clients/python:$root/tests/testing${PYTHONPATH:+:$PYTHONPATH}" \
   /usr/bin/python3 -m unittest -v $modules

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import email.utils
-import socket
 import tempfile
 import time
 import unittest
@@ -14,14 +13,9 @@ from fake_wish_server import FakeWishServer, fake_mesh
 from wish_client import (NO_RETRY, ClassifyResult, DescribeResult, RetryPolicy, WishClient, WishConnectionError,
                          WishInputError, WishServerError)
 from wish_client.client import _parse_retry_after
+from loopback import free_port
 
 FAST = RetryPolicy(max_attempts=4, base_delay=0.01, max_delay=0.05)
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class LibraryTest(unittest.TestCase):

@@ -16,7 +16,6 @@ import os
 import re
 import shutil
 import signal
-import socket
 import subprocess
 import tempfile
 import threading
@@ -27,6 +26,7 @@ from pathlib import Path
 
 from wish_client import RetryPolicy, WishClient
 from wish_client.batch import Progress, classify_batch, expand_paths, read_records
+from loopback import free_ports
 
 SOURCE = Path(os.environ.get("WISH_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 SHARED = Path(os.environ.get("WISH_SHARED_DATA", SOURCE.parent / "shared" / "data"))
@@ -47,17 +47,6 @@ def _has_serve() -> str | None:
     if not NGINX:
         return "nginx is not installed (Debian nginx-light)"
     return None
-
-
-def free_ports(n: int) -> list[int]:
-    socks = [socket.socket() for _ in range(n)]
-    try:
-        for s in socks:
-            s.bind(("127.0.0.1", 0))
-        return [s.getsockname()[1] for s in socks]
-    finally:
-        for s in socks:
-            s.close()
 
 
 def wait_ready(url: str, proc: subprocess.Popen, timeout: float = 60) -> None:

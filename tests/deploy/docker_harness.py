@@ -11,7 +11,6 @@ import contextlib
 import itertools
 import os
 import shutil
-import socket
 import subprocess
 import time
 import urllib.request
@@ -42,17 +41,6 @@ def docker(*args: str, check: bool = True, timeout: float = 120) -> subprocess.C
 
 def container_name() -> str:
     return f"wish-test-{os.getpid()}-{next(_names)}"
-
-
-def free_ports(n: int) -> list[int]:
-    socks = [socket.socket() for _ in range(n)]
-    try:
-        for s in socks:
-            s.bind(("127.0.0.1", 0))
-        return [s.getsockname()[1] for s in socks]
-    finally:
-        for s in socks:
-            s.close()
 
 
 def wait_for(condition: Callable[[], bool], what: str, timeout: float = 90, poll: float = 0.2) -> None:

@@ -20,8 +20,9 @@ import threading
 import unittest
 from pathlib import Path
 
-from docker_harness import (SOURCE, container_name, docker, free_ports, http_ok, logs, metric, remove, run_service,
+from docker_harness import (SOURCE, container_name, docker, http_ok, logs, metric, remove, run_service,
                             skip_reason, wait_for, IMAGE)
+from loopback import free_ports
 from wish_client import WishClient
 
 MESHES = SOURCE / "data" / "meshes"

@@ -20,8 +20,9 @@ import threading
 import unittest
 from pathlib import Path
 
-from docker_harness import (SOURCE, container_name, docker, free_ports, http_ok, logs, metric, remove, run_service,
+from docker_harness import (SOURCE, container_name, docker, http_ok, logs, metric, remove, run_service,
                             skip_reason, wait_for)
+from loopback import free_ports
 
 NGINX_IMAGE = os.environ.get("WISH_NGINX_IMAGE", "")
 N_INSTANCES = 3
