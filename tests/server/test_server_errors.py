@@ -151,8 +151,15 @@ class ServerAuthAndTimeoutTest(unittest.TestCase):
         import json
         with h.Server(args=["--json-log"]) as s:
             s.request("GET", "/healthz", headers={"X-Request-Id": "json-log-check"})
-            lines = [l for l in s.log_text().splitlines() if l.strip()]
-            parsed = [json.loads(l) for l in lines]  # every line is one JSON object
+
+            def complete_lines():
+                # The access line is written after the response is sent, and a line being written has no newline yet:
+                # wait for the line, then parse only whole lines.
+                text = s.log_text()
+                return [l for l in text[:text.rfind("\n") + 1].splitlines() if l.strip()]
+
+            self.assertTrue(h.wait_for(lambda: any("json-log-check" in l for l in complete_lines()), timeout=30))
+            parsed = [json.loads(l) for l in complete_lines()]  # every line is one JSON object
             access = [p for p in parsed if p.get("request_id") == "json-log-check"]
             self.assertEqual(access[0]["status"], 200)
             self.assertEqual(access[0]["route"], "/healthz")
