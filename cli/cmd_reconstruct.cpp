@@ -33,7 +33,7 @@ CommandRunner setup_reconstruct(CLI::App& sub) {
   sub.add_option("--index", options->index, "Entry of a describe --json array (default: the only entry)");
   return [options]() {
     std::ifstream in(options->descriptor);
-    if (!in) throw InvalidInputError("file_not_found", "cannot open '" + options->descriptor + "'");
+    if (!in) throw IoError("file_not_found", "cannot open '" + options->descriptor + "'");
     nlohmann::json json;
     try {
       json = nlohmann::json::parse(in);

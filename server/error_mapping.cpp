@@ -35,6 +35,7 @@ int http_status(ErrorCategory category) {
     case ErrorCategory::Timeout: return 504;
     case ErrorCategory::Unavailable: return 503;
     case ErrorCategory::Internal: return 500;
+    case ErrorCategory::Io: return 500;  // the service's own files (models, reports): not the client's fault
   }
   return 500;
 }

@@ -11,8 +11,8 @@ namespace wish::server {
 
 namespace {
 
-[[noreturn]] void bad_parameter(const std::string& name, const std::string& message, const std::string& value) {
-  throw InvalidInputError("bad_parameter", message, {{"parameter", name}, {"value", value}});
+[[noreturn]] void invalid_parameter(const std::string& name, const std::string& message, const std::string& value) {
+  throw InvalidInputError("invalid_parameter", message, {{"parameter", name}, {"value", value}});
 }
 
 int parse_int(const std::string& name, const std::string& value, int lo, int hi) {
@@ -20,9 +20,9 @@ int parse_int(const std::string& name, const std::string& value, int lo, int hi)
   const char* end = value.data() + value.size();
   const auto [ptr, ec] = std::from_chars(value.data(), end, out);
   if (value.empty() || ec != std::errc() || ptr != end)
-    bad_parameter(name, "parameter " + name + "='" + value + "' is not an integer", value);
+    invalid_parameter(name, "parameter " + name + "='" + value + "' is not an integer", value);
   if (out < lo || out > hi)
-    bad_parameter(name, "parameter " + name + "=" + value + " is outside " + std::to_string(lo) + ".." +
+    invalid_parameter(name, "parameter " + name + "=" + value + " is outside " + std::to_string(lo) + ".." +
                             std::to_string(hi), value);
   return out;
 }
@@ -52,13 +52,13 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
     const std::string value = trim(raw);
     const bool known = known_describe.count(name) || (op == Operation::Classify && name == "model");
     if (!known)
-      throw InvalidInputError("bad_parameter", "unknown parameter '" + name + "'" +
+      throw InvalidInputError("invalid_parameter", "unknown parameter '" + name + "'" +
                                                    (name == "model" ? " (only /v1/classify takes a model)" : ""),
                               {{"parameter", name}});
     if (!seen.insert(name).second)
-      throw InvalidInputError("bad_parameter", "parameter '" + name + "' given more than once", {{"parameter", name}});
+      throw InvalidInputError("invalid_parameter", "parameter '" + name + "' given more than once", {{"parameter", name}});
     if (name == "model") {
-      if (value.empty()) bad_parameter(name, "parameter model is empty", value);
+      if (value.empty()) invalid_parameter(name, "parameter model is empty", value);
       out.model = value;
     } else if (name == "lmax") {
       // Lmax above the configured limit is a size problem (413), below 1 a bad parameter (400).
@@ -70,7 +70,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.lmax = lmax;
     } else if (name == "method") {
       const std::string m = lower(value);
-      if (m != "willmore" && m != "cmcf") bad_parameter(name, "method must be willmore or cmcf, not '" + value + "'", value);
+      if (m != "willmore" && m != "cmcf") invalid_parameter(name, "method must be willmore or cmcf, not '" + value + "'", value);
       out.method = m;
     } else if (name == "steps") {
       const int steps = parse_int(name, value, 1, 1000000);
@@ -94,7 +94,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
         else if (item == "sphere") out.include_sphere = true;
         else if (item == "distortion") out.include_distortion = true;
         else if (!item.empty())
-          bad_parameter(name,
+          invalid_parameter(name,
                         "include item '" + item +
                             "' is not one of coefficients, invariants, quality, reconstruction, mesh, sphere, distortion",
                         value);
@@ -106,7 +106,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
     } else if (name == "format") {
       const std::string f = lower(value);
       if (f != "obj" && f != "ply" && f != "off" && f != "stl")
-        bad_parameter(name, "format must be obj, ply, off or stl, not '" + value + "'", value);
+        invalid_parameter(name, "format must be obj, ply, off or stl, not '" + value + "'", value);
       out.format = f;
     }
   }
@@ -119,7 +119,7 @@ std::vector<MeshPart> split_multipart(std::vector<FormPart> parts, ParamMap& par
     const bool is_mesh = !part.filename.empty() || starts_with(part.name, "mesh") || starts_with(part.name, "file");
     if (!is_mesh) {
       if (params.count(part.name))
-        throw InvalidInputError("bad_parameter", "parameter '" + part.name + "' given both in the query and the form",
+        throw InvalidInputError("invalid_parameter", "parameter '" + part.name + "' given both in the query and the form",
                                 {{"parameter", part.name}});
       params.emplace(part.name, part.content);
       continue;

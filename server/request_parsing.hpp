@@ -1,7 +1,7 @@
 #pragma once
 // Turning HTTP request pieces (query/form parameters, body, multipart parts) into typed compute parameters.
 // Eigen-free and httplib-free: the HTTP file hands plain strings in. Every refusal is a WishError with a precise
-// code, mapped to a status in error_mapping.cpp: bad_parameter (400), limit_exceeded / too_many_parts (413),
+// code, mapped to a status in error_mapping.cpp: invalid_parameter (400), limit_exceeded / too_many_parts (413),
 // unsupported_media_type (415), no_mesh (400).
 
 #include <map>

@@ -315,9 +315,9 @@ void ClassifierModel::save(const std::filesystem::path& path) const {
   const std::filesystem::path tmp = path.string() + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InvalidInputError("io_error", "cannot write the model file " + tmp.string());
+    if (!out) throw IoError("write_failed", "cannot write the model file " + tmp.string());
     out << text;
-    if (!out.flush()) throw InvalidInputError("io_error", "cannot write the model file " + tmp.string());
+    if (!out.flush()) throw IoError("write_failed", "cannot write the model file " + tmp.string());
   }
   std::filesystem::rename(tmp, path);  // never leave a half-written model under the real name
 }

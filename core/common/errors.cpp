@@ -12,6 +12,7 @@ const char* to_string(ErrorCategory category) {
     case ErrorCategory::Timeout: return "timeout";
     case ErrorCategory::Unavailable: return "unavailable";
     case ErrorCategory::Internal: return "internal";
+    case ErrorCategory::Io: return "io";
   }
   return "internal";
 }

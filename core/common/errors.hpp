@@ -23,6 +23,8 @@ enum class ErrorCategory {
   Timeout,            // the per-request time limit passed (504)
   Unavailable,        // queue full / shutting down (503)
   Internal,           // a bug or an unexpected solver state (500)
+  Io,                 // a file could not be read or written: a named input missing, an output not writable (500
+                      // in the service, whose own files these are; a distinct exit reason in the CLI)
 };
 
 const char* to_string(ErrorCategory category);
@@ -31,7 +33,8 @@ using ErrorDetailValue = std::variant<std::int64_t, double, std::string>;
 using ErrorDetails = std::map<std::string, ErrorDetailValue>;
 
 // Base of every exception thrown by core/. `code` is a stable snake_case identifier such as
-// "genus_nonzero", "parse_error", "limit_exceeded"; `message` is a full sentence with numbers.
+// "genus_nonzero", "parse_error", "limit_exceeded", listed with its meaning in core/common/error_codes.hpp;
+// `message` is a full sentence with numbers.
 class WishError : public std::runtime_error {
  public:
   WishError(ErrorCategory category, std::string code, const std::string& message, ErrorDetails details = {});
@@ -51,6 +54,12 @@ class InvalidInputError : public WishError {
  public:
   InvalidInputError(std::string code, const std::string& message, ErrorDetails details = {})
       : WishError(ErrorCategory::InvalidInput, std::move(code), message, std::move(details)) {}
+};
+
+class IoError : public WishError {
+ public:
+  IoError(std::string code, const std::string& message, ErrorDetails details = {})
+      : WishError(ErrorCategory::Io, std::move(code), message, std::move(details)) {}
 };
 
 class LimitExceededError : public WishError {

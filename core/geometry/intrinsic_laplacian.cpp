@@ -103,7 +103,7 @@ HalfedgeMesh build(const Eigen::MatrixX3i& faces) {
     for (int k = 0; k < 3; ++k) {
       const auto it = directed.find(key(faces(f, (k + 1) % 3), faces(f, k)));
       if (it == directed.end())
-        throw InvalidInputError("not_closed", "intrinsic Laplacian: edge (" + std::to_string(faces(f, k)) + ", " +
+        throw WishError(ErrorCategory::Unmappable, "not_closed", "intrinsic Laplacian: edge (" + std::to_string(faces(f, k)) + ", " +
                                                   std::to_string(faces(f, (k + 1) % 3)) +
                                                   ") has no opposite halfedge (the mesh must be closed and oriented)");
       m.twin[static_cast<size_t>(3 * f + k)] = it->second;

@@ -59,8 +59,7 @@ ReadResult read_mesh_file(const std::filesystem::path& path, ReadOptions options
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec)
-    throw WishError(ErrorCategory::NotFound, "file_not_found", "cannot read " + path.string() + ": " + ec.message(),
-                    {{"path", path.string()}});
+    throw IoError("file_not_found", "cannot read " + path.string() + ": " + ec.message(), {{"path", path.string()}});
   // Checked before reading, so a huge file is never loaded.
   if (size > options.limits.max_bytes)
     io_detail::throw_limit("max_bytes", static_cast<std::int64_t>(size), static_cast<std::int64_t>(options.limits.max_bytes),
@@ -68,7 +67,7 @@ ReadResult read_mesh_file(const std::filesystem::path& path, ReadOptions options
   std::ifstream in(path, std::ios::binary);
   std::string bytes(static_cast<std::size_t>(size), '\0');
   if (!in || !in.read(bytes.data(), static_cast<std::streamsize>(size)))
-    throw WishError(ErrorCategory::NotFound, "file_not_found", "cannot read " + path.string(), {{"path", path.string()}});
+    throw IoError("file_not_found", "cannot read " + path.string(), {{"path", path.string()}});
   if (options.hint == MeshFormat::Unknown) options.hint = format_from_name(path.extension().string());
   return read_mesh(bytes, options);
 }

@@ -168,7 +168,7 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshEn
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (!out.flush())
-    throw WishError(ErrorCategory::Internal, "write_failed", "cannot write " + path.string(), {{"path", path.string()}});
+    throw IoError("write_failed", "cannot write " + path.string(), {{"path", path.string()}});
 }
 
 }  // namespace wish

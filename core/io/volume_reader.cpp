@@ -77,7 +77,7 @@ VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& op
 VolumeReadResult read_volume_file(const std::filesystem::path& path, const VolumeReadOptions& options) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw InvalidInputError("file_not_found", "cannot read " + path.string() + ": " + ec.message(), {{"path", path.string()}});
+  if (ec) throw IoError("file_not_found", "cannot read " + path.string() + ": " + ec.message(), {{"path", path.string()}});
   if (size > options.limits.max_bytes)
     throw LimitExceededError(path.string() + " has " + std::to_string(size) + " bytes, more than the limit of " +
                                  std::to_string(options.limits.max_bytes),
@@ -86,7 +86,7 @@ VolumeReadResult read_volume_file(const std::filesystem::path& path, const Volum
   std::ifstream in(path, std::ios::binary);
   std::string bytes(size, '\0');
   if (!in.read(bytes.data(), static_cast<std::streamsize>(size)))
-    throw InvalidInputError("file_not_found", "cannot read " + path.string(), {{"path", path.string()}});
+    throw IoError("file_not_found", "cannot read " + path.string(), {{"path", path.string()}});
   return read_volume(bytes, options);
 }
 

@@ -111,7 +111,7 @@ using Clock = std::chrono::steady_clock;
 void check_preconditions(const Mesh& mesh) {
   const Eigen::Index nv = mesh.vertex_count(), nf = mesh.face_count();
   if (nv < 4 || nf < 4)
-    throw InvalidInputError("too_small", "a closed mesh needs at least 4 vertices and 4 faces (got " +
+    throw WishError(ErrorCategory::Unmappable, "too_small", "a closed mesh needs at least 4 vertices and 4 faces (got " +
                                              std::to_string(nv) + " and " + std::to_string(nf) + ")");
   if (!mesh.vertices.allFinite()) throw InvalidInputError("non_finite_vertex", "mesh has NaN/Inf coordinates");
   if (mesh.faces.minCoeff() < 0 || mesh.faces.maxCoeff() >= nv)
@@ -119,7 +119,7 @@ void check_preconditions(const Mesh& mesh) {
   const geometry::VertexPattern pattern = geometry::build_vertex_pattern(nv, mesh.faces);
   const long chi = static_cast<long>(nv) - pattern.edge_count + static_cast<long>(nf);
   if (chi != 2 || 3 * nf != 2 * pattern.edge_count)
-    throw InvalidInputError("genus_nonzero",
+    throw WishError(ErrorCategory::Unmappable, "genus_nonzero",
                             "mesh is not a closed genus-0 surface (V - E + F = " + std::to_string(chi) +
                                 ", 3F = " + std::to_string(3 * nf) + ", 2E = " + std::to_string(2 * pattern.edge_count) +
                                 "); run prepare_for_mapping first",
@@ -131,11 +131,11 @@ void check_preconditions(const Mesh& mesh) {
     repeated += mesh.faces(f, 0) == mesh.faces(f, 1) || mesh.faces(f, 1) == mesh.faces(f, 2) ||
                 mesh.faces(f, 2) == mesh.faces(f, 0);
   if (repeated > 0)
-    throw InvalidInputError("degenerate_faces", std::to_string(repeated) + " faces repeat a vertex",
+    throw WishError(ErrorCategory::Unmappable, "degenerate_faces", std::to_string(repeated) + " faces repeat a vertex",
                             {{"count", std::int64_t{repeated}}});
   const double volume = geometry::signed_volume(mesh.vertices, mesh.faces);
   if (!(volume > 0))
-    throw InvalidInputError("inconsistent_orientation",
+    throw WishError(ErrorCategory::Unmappable, "inconsistent_orientation",
                             "signed volume " + std::to_string(volume) + " is not positive: faces must be outward (CCW)",
                             {{"signed_volume", volume}});
 }

@@ -2,12 +2,14 @@
 // and content-based format detection.
 #include <bit>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
+#include "core/io/volume_io.hpp"
 
 namespace wish {
 namespace {
@@ -218,3 +220,23 @@ TEST(FormatDetection, UnknownContentIsUnsupportedFormat) {
 
 }  // namespace
 }  // namespace wish
+
+// A file that is not there is an I/O failure (category io, code file_not_found), not malformed input: the service
+// answers 500 for its own files, and the message names the path.
+TEST(FileReaders, MissingFileIsAnIoErrorNamingThePath) {
+  const std::filesystem::path missing = std::filesystem::temp_directory_path() / "wish-no-such-file-3f9a.obj";
+  std::filesystem::remove(missing);
+  for (int which = 0; which < 2; ++which) {
+    try {
+      if (which == 0)
+        (void)wish::read_mesh_file(missing);
+      else
+        (void)wish::read_volume_file(missing);
+      FAIL() << "reading a missing file did not throw";
+    } catch (const wish::WishError& e) {
+      EXPECT_EQ(e.category(), wish::ErrorCategory::Io);
+      EXPECT_EQ(e.code(), "file_not_found");
+      EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+    }
+  }
+}

@@ -96,12 +96,12 @@ class ServerErrorTest(unittest.TestCase):
         self.expect(self.describe(b'{"mesh": 1}', content_type="application/json"), 415, "unsupported_media_type")
 
     # ---- bad parameters -> 400
-    def test_bad_parameters(self):
-        for query, code in [("?lmax=abc", "bad_parameter"), ("?lmax=0", "bad_parameter"), ("?method=ricci", "bad_parameter"),
-                            ("?steps=-3", "bad_parameter"), ("?include=everything", "bad_parameter"),
-                            ("?lamx=5", "bad_parameter"), ("?model=default", "bad_parameter"),
-                            ("?lmax=5&lmax=6", "bad_parameter"), ("?format=3ds", "bad_parameter"),
-                            ("?reconstruction_level=9", "bad_parameter")]:
+    def test_invalid_parameters(self):
+        for query, code in [("?lmax=abc", "invalid_parameter"), ("?lmax=0", "invalid_parameter"), ("?method=ricci", "invalid_parameter"),
+                            ("?steps=-3", "invalid_parameter"), ("?include=everything", "invalid_parameter"),
+                            ("?lamx=5", "invalid_parameter"), ("?model=default", "invalid_parameter"),
+                            ("?lmax=5&lmax=6", "invalid_parameter"), ("?format=3ds", "invalid_parameter"),
+                            ("?reconstruction_level=9", "invalid_parameter")]:
             with self.subTest(query=query):
                 self.expect(self.describe(self.sphere, query), 400, code)
 
@@ -111,7 +111,7 @@ class ServerErrorTest(unittest.TestCase):
 
     def test_parameter_in_query_and_form(self):
         r = self.server.post_multipart("/v1/describe?lmax=5", [("mesh", "s.off", self.sphere)], fields={"lmax": "6"})
-        self.expect(r, 400, "bad_parameter")
+        self.expect(r, 400, "invalid_parameter")
 
     # ---- unknown model -> 404
     def test_unknown_model(self):

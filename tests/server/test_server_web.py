@@ -125,7 +125,7 @@ class GeometryBlockTest(unittest.TestCase):
     def test_unknown_include_item_is_refused(self):
         r = self.server.post_mesh("/v1/describe?include=mesh,spheres", self.ellipsoid)
         self.assertEqual(r.status, 400)
-        self.assertEqual(r.json()["error"]["code"], "bad_parameter")
+        self.assertEqual(r.json()["error"]["code"], "invalid_parameter")
         self.assertIn("spheres", r.json()["error"]["message"])
 
 
