@@ -45,10 +45,16 @@ int run_server(ServerConfig config) {
   const int port = http.bind();
   spdlog::info("listening on http://{}:{}", config.host, port);
 
+  // Shutdown (SIGTERM/SIGINT) in two phases. Drain: the listener stays open, new requests get 503 shutting_down
+  // (load balancers and clients retry elsewhere) and /readyz turns 503, while the requests already computing finish.
+  // Then stop: the listener closes. Closing it at once would lose requests: httplib closes a connection it accepted
+  // but had not started to read once it is stopping, and the kernel resets those still in the accept backlog
+  // (seen as RemoteDisconnected / ECONNRESET by clients under load, tests/server/test_server_signals.py).
+  // Past the grace period, what still runs is cancelled, so the process exits in bounded time.
   std::mutex mutex;
   std::condition_variable cv;
   bool served = false, terminating = false;
-  std::thread watchdog;
+  std::thread stopper;
   {
     SignalWatcher signals(
         [&] { metrics.count_reload(models.reload().ok()); },
@@ -56,21 +62,25 @@ int run_server(ServerConfig config) {
           spdlog::info("signal {}: draining ({} request(s) in flight, grace {} s)", sig, http.in_flight(),
                        config.shutdown_grace_seconds);
           http.begin_drain();
-          http.stop();
           std::lock_guard lock(mutex);
           terminating = true;
           cv.notify_all();
         });
-    // Past the grace period, cancel what is still running so that the process exits in bounded time.
-    watchdog = std::thread([&] {
+    stopper = std::thread([&] {
       std::unique_lock lock(mutex);
       cv.wait(lock, [&] { return terminating || served; });
       if (served) return;
-      const auto grace = std::chrono::duration<double>(config.shutdown_grace_seconds);
-      if (!cv.wait_for(lock, grace, [&] { return served; })) {
+      const auto grace_end = std::chrono::steady_clock::now() +
+                             std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                 std::chrono::duration<double>(config.shutdown_grace_seconds));
+      // Poll the in-flight count (the handlers do not signal this condition variable).
+      while (http.in_flight() > 0 && std::chrono::steady_clock::now() < grace_end)
+        cv.wait_for(lock, std::chrono::milliseconds(20));
+      if (http.in_flight() > 0) {
         spdlog::warn("grace period over: cancelling {} in-flight request(s)", http.in_flight());
         http.cancel_in_flight();
       }
+      http.stop();
     });
     http.serve();  // returns once stopped and every in-flight request is answered
     {
@@ -78,7 +88,7 @@ int run_server(ServerConfig config) {
       served = true;
       cv.notify_all();
     }
-    watchdog.join();
+    stopper.join();
   }
   pool.shutdown();
   spdlog::info("stopped");
