@@ -27,4 +27,6 @@ SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-1704067200} "$wish" train "$tmp/demo" \
   --save-descriptors "$tmp/descriptors.csv"
 # Descriptor paths are machine-specific temporaries: keep class/file names only.
 sed "s#$tmp/demo/##" "$tmp/descriptors.csv" > "$out/demo-descriptors.csv"
+# The same for the report: no temporary directory or checkout path in a committed file.
+sed -i "s#$tmp/demo/##g; s#\"$tmp/demo\"#\"demo\"#; s#\"$out/default.json\"#\"default.json\"#" "$out/default-report.json"
 echo "wrote $out/default.json (SYNTHETIC demo model)"

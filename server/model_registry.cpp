@@ -29,6 +29,15 @@ std::string now_iso8601() {
   return buf;
 }
 
+// ln xi(l), l = 1..Lmax, per class (ClassSpectrum): what a client draws a shape's spectrum against.
+nlohmann::json class_spectra_json(const std::vector<ClassSpectrum>& spectra) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& c : spectra)
+    out.push_back({{"label", c.label}, {"count", c.count}, {"l_min", 1}, {"log_xi_mean", c.log_xi_mean},
+                   {"log_xi_std", c.log_xi_std}});
+  return out;
+}
+
 nlohmann::json build_info(const ClassifierModel& m, const std::filesystem::path& file) {
   const auto& ds = m.recipe();
   const auto& fs = m.feature_spec();
@@ -67,7 +76,8 @@ nlohmann::json build_info(const ClassifierModel& m, const std::filesystem::path&
         {"test_accuracy", ts.test_accuracy},
         {"nested_cv_mean", ts.nested_cv_mean},
         {"nested_cv_std", ts.nested_cv_std},
-        {"notes", ts.notes}}},
+        {"notes", ts.notes},
+        {"class_spectra", class_spectra_json(ts.class_spectra)}}},
   };
 }
 

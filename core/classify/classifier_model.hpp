@@ -28,6 +28,17 @@ struct Prediction {
   double margin = 0;  // decision value of the winning class against the runner-up (libsvm one-vs-one)
 };
 
+// The spectrum of one class of the training set, for comparing a new shape's xi(l) with it (the web page draws it).
+// Convention: natural log of xi(l) for l = 1 .. Lmax of the recipe (xi(0) depends on translation), mean and
+// standard deviation over the class's training samples; xi is floored at 1e-300 before the log so that an exact
+// zero stays finite. exp(log_xi_mean) is the class's geometric-mean spectrum.
+struct ClassSpectrum {
+  std::string label;
+  std::int64_t count = 0;
+  std::vector<double> log_xi_mean;  // index k is l = k + 1
+  std::vector<double> log_xi_std;
+};
+
 struct TrainingSummary {
   std::string dataset_sha256;
   std::string trained_at;          // ISO 8601 UTC
@@ -37,6 +48,7 @@ struct TrainingSummary {
   double test_accuracy = 0;        // stratified 20 % hold-out
   double nested_cv_mean = 0, nested_cv_std = 0;
   std::string notes;
+  std::vector<ClassSpectrum> class_spectra;  // in the model's class order; empty in models trained before it existed
 };
 
 // The recipe as the model file stores it (payload.recipe), as JSON text: for model listings and reports.

@@ -193,6 +193,31 @@ json migrate_v1_payload(json p) {
   return p;
 }
 
+json class_spectra_json(const std::vector<ClassSpectrum>& spectra) {
+  json out = json::array();
+  for (const auto& c : spectra)
+    out.push_back({{"label", c.label}, {"count", c.count}, {"log_xi_mean", c.log_xi_mean}, {"log_xi_std", c.log_xi_std}});
+  return out;
+}
+
+// Optional: model files written before class spectra existed have none (the payload seal covers what is there).
+std::vector<ClassSpectrum> class_spectra_from_json(const json& t) {
+  std::vector<ClassSpectrum> out;
+  if (!t.contains("class_spectra")) return out;
+  const json& arr = t.at("class_spectra");
+  if (!arr.is_array()) invalid("training.class_spectra is not an array");
+  for (const auto& c : arr) {
+    ClassSpectrum s;
+    s.label = str(c, "label", "class_spectra");
+    s.count = integer(c, "count", "class_spectra");
+    s.log_xi_mean = numbers(field(c, "log_xi_mean", "class_spectra"), "class_spectra.log_xi_mean");
+    s.log_xi_std = numbers(field(c, "log_xi_std", "class_spectra"), "class_spectra.log_xi_std");
+    if (s.log_xi_mean.size() != s.log_xi_std.size()) invalid("class_spectra: log_xi_mean and log_xi_std differ in length");
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
 json payload_of(const ClassifierModel::State& s) {
   const SvmModelData& svm = s.svm.data();
   const TrainingSummary& t = s.summary;
@@ -210,7 +235,8 @@ json payload_of(const ClassifierModel::State& s) {
            {{"dataset_sha256", t.dataset_sha256}, {"trained_at", t.trained_at}, {"samples", t.samples},
             {"best_c", t.best_c}, {"best_gamma", t.best_gamma}, {"grid_score", t.grid_score},
             {"test_accuracy", t.test_accuracy}, {"nested_cv_mean", t.nested_cv_mean},
-            {"nested_cv_std", t.nested_cv_std}, {"notes", t.notes}}}};
+            {"nested_cv_std", t.nested_cv_std}, {"notes", t.notes},
+            {"class_spectra", class_spectra_json(t.class_spectra)}}}};
 }
 
 std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
@@ -266,6 +292,7 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
   s->summary.nested_cv_mean = num(t, "nested_cv_mean", "training");
   s->summary.nested_cv_std = num(t, "nested_cv_std", "training");
   s->summary.notes = str(t, "notes", "training");
+  s->summary.class_spectra = class_spectra_from_json(t);
   return s;
 }
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 
+#include "core/classify/class_spectra.hpp"
 #include "core/classify/classifier_state.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/sha256.hpp"
@@ -248,6 +249,7 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   t.notes = options.notes;
   if (!t.notes.empty()) t.notes += " ";
   t.notes += std::string("seed ") + std::to_string(options.seed) + (options.refit_on_all ? "; refit on all samples" : "; fit on the training split");
+  t.class_spectra = class_spectra(samples, rep.classes);
   rep.seconds_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return {ClassifierModel(finalize_state(std::move(state))), std::move(rep)};
 }

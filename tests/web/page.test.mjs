@@ -180,6 +180,21 @@ test('upload, views, quality table, slider, errors and batch table', { skip: mis
   const label = await page.textContent('#predicted-label');
   assert.equal(label, api.body.prediction.label);
 
+  // The spectrum shows one dashed class-mean line per class of the model, each the exp of the model's stored
+  // mean ln xi(l) (GET /v1/models, training_summary.class_spectra), truncated at the shape's Lmax.
+  const models = await (await fetch(`${base}/v1/models`)).json();
+  const model = models.models.find((m) => m.name === api.body.prediction.model.name);
+  const spectra = model.training_summary.class_spectra;
+  assert.equal(spectra.length, model.classes.length, 'the default model carries a spectrum per class');
+  const drawn = await page.$$eval('#spectrum polyline[data-kind="class-mean"]',
+                                  (ls) => ls.map((l) => JSON.parse(l.dataset.values)));
+  assert.equal(drawn.length, spectra.length);
+  drawn.forEach((values, i) => {
+    const expected = spectra[i].log_xi_mean.slice(0, api.body.descriptor.lmax).map(Math.exp);
+    assert.equal(values.length, expected.length);
+    values.forEach((v, k) => assert.ok(Math.abs(v - expected[k]) <= 1e-9 * expected[k], `class ${i} l=${k + 1}`));
+  });
+
   // The reconstruction at Lmax, evaluated in the browser from the coefficients, reproduces the service's fit error
   // (mean |x - x_L| at the input vertices): the page's SH conventions are the service's.
   const lmax = api.body.descriptor.lmax;

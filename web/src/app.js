@@ -10,6 +10,8 @@ import { MeshViewer } from './viewer.js';
 const $ = (sel) => document.querySelector(sel);
 const INCLUDE = 'invariants,quality,coefficients,mesh,sphere,distortion';
 const CONCURRENT_UPLOADS = 2;
+// Class-mean spectra on the spectrum plot: distinct from the shape's blue and from each other.
+const CLASS_COLOURS = ['#dc2626', '#16a34a', '#9333ea', '#ea580c', '#0891b2', '#a16207', '#db2777', '#4b5563'];
 
 const state = { models: [], defaultModel: null, items: [], selected: null, sort: { key: null, dir: 1 }, nextId: 1 };
 let viewers = null;
@@ -394,11 +396,24 @@ function showSpectrum(item) {
   const inv = item.result.descriptor.invariants || [];
   // xi(0) is the squared mean position (depends on translation): the plot starts at l = 1.
   const series = [{ name: item.name, colour: '#2563eb', values: inv.map((v, l) => [l, v]).slice(1) }];
+  // The classes the shape was judged by: each class's geometric-mean spectrum exp(mean ln xi(l)) over its training
+  // samples, from the model's training_summary.class_spectra (GET /v1/models), dashed.
+  const p = item.result.prediction;
+  const model = p ? state.models.find((m) => m.name === p.model.name) : null;
+  const spectra = model?.training_summary?.class_spectra || [];
+  const lmax = inv.length - 1;
+  spectra.forEach((c, i) => {
+    const values = c.log_xi_mean.map((v, k) => [c.l_min + k, Math.exp(v)]).filter(([l]) => l <= lmax);
+    series.push({ name: `${c.label} (mean of ${c.count})`, colour: CLASS_COLOURS[i % CLASS_COLOURS.length], values,
+                  dashed: true, points: false, kind: 'class-mean' });
+  });
   const box = $('#spectrum');
   box.innerHTML = '';
-  box.append(spectrumPlot(series));
+  box.append(spectrumPlot(series, { height: Math.max(260, 40 + 14 * series.length) }));
   const note = document.createElement('p'); note.className = 'note';
-  note.textContent = 'The model files carry no per-class spectra, so no class means are drawn.';
+  note.textContent = !p ? 'Described without a model: no class spectra to compare with.'
+    : spectra.length ? 'Dashed: geometric-mean spectrum of each class of the model\'s training set.'
+      : 'This model file carries no per-class spectra (trained before they were stored), so no class means are drawn.';
   box.append(note);
 }
 

@@ -12,7 +12,8 @@ function el(name, attrs = {}, text) {
 export const fmt = (v, digits = 4) =>
   v === null || v === undefined ? '—' : typeof v === 'number' ? (Number.isInteger(v) ? String(v) : v.toPrecision(digits)) : String(v);
 
-// series: [{name, values: [[l, xi], ...], colour, dashed}]; log10 y axis.
+// series: [{name, values: [[l, xi], ...], colour, dashed, kind, points}]; log10 y axis. `kind` is written to the
+// line's data-kind (tests find the series by it); points: false draws the line without markers.
 export function spectrumPlot(series, { width = 440, height = 260 } = {}) {
   const svg = el('svg', { width, height, viewBox: `0 0 ${width} ${height}`, role: 'img', 'aria-label': 'spectrum' });
   const m = { l: 52, r: 12, t: 10, b: 34 };
@@ -37,8 +38,11 @@ export function spectrumPlot(series, { width = 440, height = 260 } = {}) {
   series.forEach((s, i) => {
     const v = s.values.filter(([, y]) => y > 0 && Number.isFinite(y));
     svg.append(el('polyline', { points: v.map(([l, y]) => `${X(l)},${Y(y)}`).join(' '), fill: 'none',
-                                stroke: s.colour, 'stroke-width': 2, 'stroke-dasharray': s.dashed ? '4 3' : 'none' }));
-    for (const [l, y] of v) svg.append(el('circle', { cx: X(l), cy: Y(y), r: 3, fill: s.colour, 'data-l': l, 'data-xi': y }));
+                                stroke: s.colour, 'stroke-width': s.dashed ? 1.5 : 2, 'stroke-dasharray': s.dashed ? '4 3' : 'none',
+                                'data-kind': s.kind || 'shape', 'data-name': s.name,
+                                'data-values': JSON.stringify(v.map(([, y]) => y)) }));
+    if (s.points !== false)
+      for (const [l, y] of v) svg.append(el('circle', { cx: X(l), cy: Y(y), r: 3, fill: s.colour, 'data-l': l, 'data-xi': y }));
     svg.append(el('text', { x: width - m.r - 4, y: m.t + 12 + 14 * i, 'text-anchor': 'end', fill: s.colour }, s.name));
   });
   return svg;
