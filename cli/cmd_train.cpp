@@ -1,7 +1,10 @@
 // `wish train INPUT`: trains an RBF C-SVM classifier as in paper §6 (classification.md) and writes the model
 // file, a JSON report, a printed table and an SVG heat map of the grid. INPUT is
-//   * a directory with one sub-directory per class holding meshes (OBJ, PLY, OFF, STL), or
-//   * a CSV manifest "path,label" (relative paths against the manifest's directory), or
+//   * a directory with one sub-directory per class holding meshes (OBJ, PLY, OFF, STL) and/or label volumes
+//     (NIfTI-1, TIFF; format by content): every kept object of a volume in class folder C is a sample of class C,
+//     id "<volume>#<label id>"; the volume options (--spacing, --min-voxels, --drop-truncated, ...) are mesh-labels', or
+//   * a CSV manifest "path,label[,label_id]" (relative paths against the manifest's directory; a row with a label
+//     id names one object of a volume, with its own class), or
 //   * a descriptor CSV from `wish describe --csv` / `wish train --save-descriptors` (has xi_0.. columns), with a
 //     label column or labels joined from --labels MANIFEST — so a grid search need not redo the flows.
 // The command line makes one DescriptorRecipe (map method and options, SH fit, feature pipeline, off-recipe
@@ -24,6 +27,7 @@
 
 #include "cli/command_registry.hpp"
 #include "cli/file_bytes.hpp"
+#include "cli/volume_options.hpp"
 #include "core/classify/dataset.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
@@ -55,6 +59,7 @@ struct TrainCliOptions {
   double max_class_loss = 0.1;
   int grid_splits = 10, nested_repeats = 2, nested_folds = 5;
   std::vector<int> c_range{-2, 10}, gamma_range{-9, 3};
+  VolumeCliOptions volume;
 };
 
 
@@ -70,7 +75,9 @@ nlohmann::json summary_row(const FamilyScore& f) {
 
 CommandRunner setup_train(CLI::App& sub) {
   auto o = std::make_shared<TrainCliOptions>();
-  sub.add_option("input", o->input, "Class directory tree, manifest CSV (path,label) or descriptor CSV")->required();
+  sub.add_option("input", o->input,
+                 "Class directory tree (meshes or label volumes), manifest CSV (path,label[,label_id]) or descriptor CSV")
+      ->required();
   sub.add_option("--labels", o->labels, "Manifest CSV (path,label) giving the labels of a descriptor CSV");
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
       ->check(CLI::Range(1, 100))->capture_default_str();
@@ -110,6 +117,7 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_flag("--refit-all", o->refit_all, "Refit the final model on all samples (default: on the training split)");
   sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");
   sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
+  add_volume_options(sub, o->volume);
   return [o]() {
     DescriptorRecipe recipe;
     recipe.map.method = map_method_from_name(o->method);
@@ -135,14 +143,16 @@ CommandRunner setup_train(CLI::App& sub) {
       DescribeSetOptions d;
       d.jobs = o->jobs;
       d.progress = [quiet = o->quiet](const std::string& line, bool lost) { print_progress(line, lost, quiet); };
-      TrainingSet set = describe_dataset(items, recipe_describer(recipe), d);
+      TrainingDescribeOptions how;
+      how.volume = to_volume_options(o->volume);
+      TrainingSet set = describe_dataset(items, recipe_describer(recipe, how), d);
       samples = std::move(set.samples);
       failures = std::move(set.losses);
     };
     if (fs::is_directory(input)) {
       const auto items = list_class_directories(input);
-      if (items.empty()) throw InvalidInputError("training_data", "no meshes in class sub-directories of " + o->input);
-      std::cerr << "describing " << items.size() << " meshes (Lmax " << o->lmax << ", " << o->method << ")\n";
+      if (items.empty()) throw InvalidInputError("training_data", "no meshes or label volumes in class sub-directories of " + o->input);
+      std::cerr << "describing " << items.size() << " files (Lmax " << o->lmax << ", " << o->method << ")\n";
       describe(items);
     } else {
       const std::string text = read_file_bytes(o->input);
@@ -169,7 +179,7 @@ CommandRunner setup_train(CLI::App& sub) {
         for (const auto& f : unlabelled) std::cerr << "wish train: skipped " << f << ": no label\n";
       } else {
         const auto items = read_dataset_manifest(text, input.parent_path());
-        std::cerr << "describing " << items.size() << " meshes from the manifest (Lmax " << o->lmax << ")\n";
+        std::cerr << "describing " << items.size() << " files from the manifest (Lmax " << o->lmax << ")\n";
         describe(items);
       }
     }
@@ -177,7 +187,7 @@ CommandRunner setup_train(CLI::App& sub) {
     if (!failures.empty()) {
       // Before training can stop on them; the stdout report repeats the table (training_report_table).
       std::cerr << failures.size() << " of " << samples.size() + failures.size()
-                << " meshes are NOT in the training set (refused or failed):\n"
+                << " samples (meshes or volume objects) are NOT in the training set (refused or failed):\n"
                 << loss_table(summarize_training_set({samples, failures})) << "\n";
     }
     if (!o->save_descriptors.empty()) {
