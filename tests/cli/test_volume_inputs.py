@@ -190,9 +190,18 @@ class VolumeInputs(unittest.TestCase):
         model = os.path.join(self.dir, "model.json")
         report = os.path.join(self.dir, "report.json")
         desc = os.path.join(self.dir, "desc.csv")
-        run("train", data, "--out", model, "--report", report, "--save-descriptors", desc, "--method", "cmcf",
-            "--lmax", "6", "--log", "--jobs", "1", "--nested-repeats", "0", "--grid-splits", "2", "--no-compare",
-            "--quiet")
+        # No recipe options: the defaults are the recipe chosen by accuracy (docs/accuracy.md), the bundled model's.
+        run("train", data, "--out", model, "--report", report, "--save-descriptors", desc, "--jobs", "1",
+            "--nested-repeats", "0", "--grid-splits", "2", "--no-compare", "--quiet")
+        recipe = json.loads(read_text(model))["payload"]["recipe"]
+        self.assertEqual(recipe["map"]["method"], "cmcf")
+        self.assertEqual((recipe["features"]["l_max"], recipe["features"]["log"]), (10, True))
+        default_model = os.path.join(SOURCE_DIR, "data", "models", "default.json")
+        if os.path.exists(default_model):  # scripts/make-default-model.sh trains with the same recipe
+            shipped = json.loads(read_text(default_model))["payload"]["recipe"]
+            self.assertEqual(shipped["map"]["method"], recipe["map"]["method"])
+            self.assertEqual(shipped["features"], recipe["features"])
+            self.assertEqual(shipped["sh"], recipe["sh"])
         rows = list(csv.DictReader(io.StringIO(read_text(desc))))
         self.assertEqual(len(rows), 18)  # 2 classes x 3 volumes x 3 objects, each one sample
         ids = {r["file"]: r["label"] for r in rows}
