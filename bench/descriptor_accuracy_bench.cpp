@@ -9,7 +9,12 @@
 // alone is measured on the same meshes, so every row compares xi with global on paired data.
 //   descriptor_accuracy_bench --data DIR [--data DIR ...] [--methods willmore,cmcf,linear] [--nu 1,100,10000]
 //     [--lmax 10,15,25] [--max-per-class N] [--jobs J] [--repeats R] [--folds F] [--c-range A B]
-//     [--gamma-range A B] [--max-k-p99 X] [--map-seconds S] [--csv OUT.csv]
+//     [--gamma-range A B] [--max-k-p99 X] [--map-seconds S] [--csv OUT.csv] [--paired]
+// --flow-budget S: the flows' soft time budget (SphericalMapOptions::flow_budget_seconds, wall-clock seconds per
+// 10,000 vertices; default 4): on a loaded machine the default cuts flows short (FlowStop::TimeBudget), so the
+// mapped share then measures the load as much as the method.
+// --paired: every row uses only the meshes that every listed method mapped (the same meshes for every method, so
+// rows compare methods on paired data; without it a row has the meshes its own method mapped).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -133,6 +138,8 @@ int main(int argc, char** argv) {
   int c_range[2] = {-1, 5}, gamma_range[2] = {-5, 1};
   double max_k_p99 = SphericalMapOptions{}.verification.max_conformal_p99, map_seconds = 120;
   std::string csv_out;
+  bool paired = false;
+  double flow_budget = SphericalMapOptions{}.flow_budget_seconds;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -163,6 +170,8 @@ int main(int argc, char** argv) {
     } else if (a == "--max-k-p99") max_k_p99 = std::stod(next());
     else if (a == "--map-seconds") map_seconds = std::stod(next());
     else if (a == "--csv") csv_out = next();
+    else if (a == "--paired") paired = true;
+    else if (a == "--flow-budget") flow_budget = std::stod(next());
     else {
       std::cerr << "unknown argument " << a << "\n";
       return 2;
@@ -218,6 +227,7 @@ int main(int argc, char** argv) {
         mo.method = method_enums[m];
         mo.fallback = false;  // one method per row: no mixing
         mo.verification.max_conformal_p99 = max_k_p99;
+        mo.flow_budget_seconds = flow_budget;
         const auto t = std::chrono::steady_clock::now();
         try {
           const SphericalMapResult map = compute_spherical_map(prepared->mesh, mo, Deadline::after(std::chrono::duration<double>(map_seconds)));
@@ -299,9 +309,14 @@ int main(int argc, char** argv) {
     for (std::size_t m = 0; m < methods.size(); ++m) {
       std::vector<const MeshRecord*> used;
       for (const auto& r : records)
-        if (r.refused.empty() && r.methods[m].ok) used.push_back(&r);
+        if (r.refused.empty() && (paired ? std::all_of(r.methods.begin(), r.methods.end(), [](const MethodOutcome& x) { return x.ok; })
+                                         : r.methods[m].ok))
+          used.push_back(&r);
       std::map<std::string, int> per_class;
       for (const auto* r : used) ++per_class[r->label];
+      std::printf("%-9s meshes per class:", methods[m].c_str());
+      for (const auto& [label, n] : per_class) std::printf(" %s %d", label.c_str(), n);
+      std::printf("%s\n", paired ? " (paired: mapped by every method)" : "");
       if (per_class.size() < 2 || std::any_of(per_class.begin(), per_class.end(), [](const auto& p) { return p.second < 2; })) {
         std::printf("%-9s %4zu  (too few mapped meshes per class for CV)\n", methods[m].c_str(), used.size());
         continue;

@@ -3,7 +3,9 @@
 //   default: a short table per file;  --json: an array, one object per file, its "descriptor", "map" and "timings"
 //   blocks in the service's layout (server/wire_json.hpp: the same encoders as /v1/describe);  --csv: one row per mesh: file, n_vertices, n_faces, map method/status, fit errors,
 //   timings, xi_0..xi_L (what a notebook wants).
-// A file that fails is reported (JSON: "error"; CSV/table: on stderr) and the others still run; exit status 1 then.
+// A label volume (NIfTI-1, TIFF; by content; the volume options of `wish mesh-labels`) gives one result per kept
+// object, keyed by label id ("label_id"; JSON also an "object" block; CSV column label_id, empty for meshes).
+// A file or object that fails is reported (JSON: "error"; CSV/table: on stderr) and the others still run; exit status 1 then.
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -15,6 +17,8 @@
 
 #include "cli/command_registry.hpp"
 #include "cli/file_bytes.hpp"
+#include "cli/volume_options.hpp"
+#include "cli/volume_rows.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "server/error_mapping.hpp"
@@ -31,32 +35,57 @@ struct DescribeOptions {
   bool json = false, csv = false;
   std::string method = "willmore", weights = "area", solver = "direct";
   double regularization = 1e-5;
+  bool quiet = false;
+  VolumeCliOptions volume;
 };
 
-nlohmann::json describe_file(const std::string& file, const PipelineOptions& options, bool& ok) {
+// The result blocks of one described mesh (a file's, or a volume object's surface).
+void describe_into(nlohmann::json& out, const PipelineResult& r) {
+  out["n_vertices"] = r.prepared.mesh.vertex_count();
+  out["n_faces"] = r.prepared.mesh.face_count();
+  out["map"] = server::map_block_json(r.map, /*quality=*/true);
+  // Kept at the top of "map" for scripts written against earlier versions (also in "map.quality").
+  out["map"]["flipped_faces"] = r.map.quality.flipped_faces;
+  out["map"]["conformal_p99"] = server::json_number(r.map.quality.conformal_p99);
+  out["descriptor"] = server::descriptor_json(r.sh);
+  out["timings"] = server::timings_json(r.timings);
+}
+
+// One row for a mesh file; one per kept object for a label volume (format by content; cli/volume_rows.hpp).
+void describe_file(const std::string& file, const PipelineOptions& options, const VolumeOptions& volume, bool progress,
+                   bool& ok, std::vector<nlohmann::json>& rows) {
+  auto fail = [&ok](nlohmann::json& row, const WishError& e) {
+    ok = false;
+    row["error"] = server::error_entry_json(e);
+  };
   nlohmann::json out = {{"file", file}};
   try {
+    const std::string bytes = read_file_bytes(file);
+    if (detect_volume_format(bytes) != VolumeFormat::Unknown) {
+      volume_rows(file, bytes, volume, progress,
+                  [&](nlohmann::json& row, Mesh mesh) { describe_into(row, describe_mesh(std::move(mesh), options)); },
+                  fail, rows);
+      return;
+    }
     PipelineOptions o = options;
     const auto dot = file.find_last_of('.');
     if (dot != std::string::npos) o.read.hint = format_from_name(file.substr(dot));
-    const PipelineResult r = describe_mesh_bytes(read_file_bytes(file), o);
-    out["n_vertices"] = r.prepared.mesh.vertex_count();
-    out["n_faces"] = r.prepared.mesh.face_count();
-    out["map"] = server::map_block_json(r.map, /*quality=*/true);
-    // Kept at the top of "map" for scripts written against earlier versions (also in "map.quality").
-    out["map"]["flipped_faces"] = r.map.quality.flipped_faces;
-    out["map"]["conformal_p99"] = server::json_number(r.map.quality.conformal_p99);
-    out["descriptor"] = server::descriptor_json(r.sh);
-    out["timings"] = server::timings_json(r.timings);
+    describe_into(out, describe_mesh_bytes(bytes, o));
   } catch (const WishError& e) {
-    ok = false;
-    out["error"] = server::error_entry_json(e);
+    fail(out, e);
   }
-  return out;
+  rows.push_back(std::move(out));
+}
+
+// "file" or "file#label_id" for messages.
+std::string row_name(const nlohmann::json& r) {
+  std::string name = r["file"].get<std::string>();
+  if (r.contains("label_id")) name += "#" + std::to_string(r["label_id"].get<std::uint32_t>());
+  return name;
 }
 
 void print_csv(const std::vector<nlohmann::json>& results, int lmax, std::ostream& os) {
-  os << "file,n_vertices,n_faces,map_method,map_status,fit_mean,fit_rms,fit_max,fit_mean_relative,fit_rms_relative,"
+  os << "file,label_id,n_vertices,n_faces,map_method,map_status,fit_mean,fit_rms,fit_max,fit_mean_relative,fit_rms_relative,"
         "fit_max_relative,t_read,t_validate,t_map,t_fit,t_total";
   for (int l = 0; l <= lmax; ++l) os << ",xi_" << l;
   os << "\n" << std::setprecision(17);
@@ -71,7 +100,8 @@ void print_csv(const std::vector<nlohmann::json>& results, int lmax, std::ostrea
       for (char c : file) q += c == '"' ? std::string("\"\"") : std::string(1, c);
       file = q + "\"";
     }
-    os << file << "," << r["n_vertices"] << "," << r["n_faces"] << "," << r["map"]["method"].get<std::string>() << ","
+    os << file << "," << (r.contains("label_id") ? std::to_string(r["label_id"].get<std::uint32_t>()) : "") << ","
+       << r["n_vertices"] << "," << r["n_faces"] << "," << r["map"]["method"].get<std::string>() << ","
        << r["map"]["status"].get<std::string>();
     for (const char* key : {"mean", "rms", "max", "mean_relative", "rms_relative", "max_relative"})
       os << "," << json_number_or_nan(e[key]);
@@ -82,7 +112,7 @@ void print_csv(const std::vector<nlohmann::json>& results, int lmax, std::ostrea
 }
 
 void print_table(const nlohmann::json& r, std::ostream& os) {
-  os << r["file"].get<std::string>() << ":\n";
+  os << row_name(r) << ":\n";
   if (r.contains("error")) {
     os << "  error [" << r["error"]["code"].get<std::string>() << "] " << r["error"]["message"].get<std::string>()
        << "\n";
@@ -108,7 +138,7 @@ void print_table(const nlohmann::json& r, std::ostream& os) {
 
 CommandRunner setup_describe(CLI::App& sub) {
   auto options = std::make_shared<DescribeOptions>();
-  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL)")->required();
+  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF)")->required();
   sub.add_option("--lmax", options->lmax, "Maximum SH degree")->check(CLI::Range(0, kShMaxFitLmax))->capture_default_str();
   auto* json = sub.add_flag("--json", options->json, "JSON array, one object per file");
   sub.add_flag("--csv", options->csv, "CSV, one row per mesh, invariants as columns xi_0..xi_L")->excludes(json);
@@ -120,6 +150,8 @@ CommandRunner setup_describe(CLI::App& sub) {
       ->check(CLI::IsMember({"direct", "banded"}))->capture_default_str();
   sub.add_option("--regularization", options->regularization, "nu of the penalty l^2 (l+1)^2 (weights sum to 1)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub.add_flag("--quiet", options->quiet, "No progress line for label volumes");
+  add_volume_options(sub, options->volume);
   return [options]() {
     PipelineOptions po;
     po.map.method = map_method_from_name(options->method);
@@ -129,11 +161,15 @@ CommandRunner setup_describe(CLI::App& sub) {
     po.sh.regularization = options->regularization;
     bool ok = true;
     std::vector<nlohmann::json> results;
+    const VolumeOptions volume = to_volume_options(options->volume);
     for (const auto& file : options->files) {
-      results.push_back(describe_file(file, po, ok));
-      if (!options->json && results.back().contains("error"))
-        std::cerr << "wish describe: " << file << ": error [" << results.back()["error"]["code"].get<std::string>()
-                  << "] " << results.back()["error"]["message"].get<std::string>() << "\n";
+      const std::size_t first = results.size();
+      describe_file(file, po, volume, !options->quiet, ok, results);
+      for (std::size_t i = first; i < results.size(); ++i)
+        if (!options->json && results[i].contains("error"))
+          std::cerr << "wish describe: " << row_name(results[i]) << ": error ["
+                    << results[i]["error"]["code"].get<std::string>() << "] "
+                    << results[i]["error"]["message"].get<std::string>() << "\n";
     }
     if (options->json)
       std::cout << nlohmann::json(results).dump(2) << "\n";

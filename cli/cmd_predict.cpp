@@ -1,6 +1,8 @@
 // `wish predict --model M FILE... [--json|--csv]`: label, class probabilities (Platt) and decision margin per
 // mesh, computed with the model's own descriptor settings (core/pipeline classify_mesh_bytes). A file that fails
-// is reported and the others still run; exit status 1 then.
+// is reported and the others still run; exit status 1 then. A label volume (NIfTI-1, TIFF; by content; the volume
+// options of `wish mesh-labels`) gives one result per kept object, keyed by label id (JSON "label_id" and an
+// "object" block; CSV column label_id, empty for meshes); a refused object is a row with its error.
 // `wish predict --model M --descriptors D.csv`: the same from descriptors already computed (`wish describe --csv`,
 // `wish train --save-descriptors`), one result per row. The table's Lmax must be the model's: ξ(l) of a fit at
 // another Lmax are not the model's features, so a mismatch is refused, never predicted from.
@@ -13,6 +15,8 @@
 
 #include "cli/command_registry.hpp"
 #include "cli/file_bytes.hpp"
+#include "cli/volume_options.hpp"
+#include "cli/volume_rows.hpp"
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/common/errors.hpp"
@@ -25,8 +29,15 @@ struct PredictOptions {
   std::string model;
   std::vector<std::string> files;
   std::string descriptors;
-  bool json = false, csv = false;
+  bool json = false, csv = false, quiet = false;
+  VolumeCliOptions volume;
 };
+
+std::string row_name(const nlohmann::json& r) {
+  std::string name = r["file"].get<std::string>();
+  if (r.contains("label_id")) name += "#" + std::to_string(r["label_id"].get<std::uint32_t>());
+  return name;
+}
 
 std::string csv_quote(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -38,12 +49,14 @@ std::string csv_quote(const std::string& s) {
 CommandRunner setup_predict(CLI::App& sub) {
   auto o = std::make_shared<PredictOptions>();
   sub.add_option("--model", o->model, "Model file written by `wish train` (e.g. data/models/default.json)")->required();
-  auto* files = sub.add_option("files", o->files, "Mesh files (OBJ, PLY, OFF, STL)");
+  auto* files = sub.add_option("files", o->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF)");
   sub.add_option("--descriptors", o->descriptors,
                  "Descriptor CSV (xi_0..xi_L columns, as `wish describe --csv` writes) instead of mesh files")
       ->excludes(files);
   auto* json = sub.add_flag("--json", o->json, "JSON array, one object per file");
-  sub.add_flag("--csv", o->csv, "CSV: file, label, margin, p_<class>...")->excludes(json);
+  sub.add_flag("--csv", o->csv, "CSV: file, label_id, label, margin, p_<class>...")->excludes(json);
+  sub.add_flag("--quiet", o->quiet, "No progress line for label volumes");
+  add_volume_options(sub, o->volume);
   return [o]() {
     const ClassifierModel model = ClassifierModel::load(o->model);
     if (o->files.empty() && o->descriptors.empty())
@@ -84,19 +97,37 @@ CommandRunner setup_predict(CLI::App& sub) {
         results.push_back(r);
       }
     }
+    auto classified = [&](nlohmann::json& r, const PipelineResult& res) {
+      record(r, res.prediction.value());
+      r["seconds"] = res.timings.total;
+      if (res.recipe) {  // the map's method against the model's recipe (off-recipe maps accepted by its policy)
+        r["recipe_match"] = res.recipe->match;
+        r["method_used"] = to_string(res.recipe->method_used);
+      }
+    };
+    const VolumeOptions volume = to_volume_options(o->volume);
+    std::vector<nlohmann::json> rows;
     for (const auto& file : o->files) {
       nlohmann::json r = {{"file", file}};
       try {
+        const std::string bytes = read_file_bytes(file);
+        if (detect_volume_format(bytes) != VolumeFormat::Unknown) {  // a label volume: one row per kept object
+          const PipelineOptions po = options_for_recipe(model.recipe());
+          volume_rows(file, bytes, volume, !o->quiet,
+                      [&](nlohmann::json& row, Mesh mesh) {
+                        PipelineResult res = describe_mesh(std::move(mesh), po);
+                        classify_described(res, model);
+                        classified(row, res);
+                      },
+                      [&](nlohmann::json& row, const WishError& e) { fail(row, row_name(row), e); }, rows);
+          for (auto& row : rows) results.push_back(std::move(row));
+          rows.clear();
+          continue;
+        }
         PipelineOptions po;
         const auto dot = file.find_last_of('.');
         if (dot != std::string::npos) po.read.hint = format_from_name(file.substr(dot));
-        const PipelineResult res = classify_mesh_bytes(read_file_bytes(file), model, po);
-        record(r, res.prediction.value());
-        r["seconds"] = res.timings.total;
-        if (res.recipe) {  // the map's method against the model's recipe (off-recipe maps accepted by its policy)
-          r["recipe_match"] = res.recipe->match;
-          r["method_used"] = to_string(res.recipe->method_used);
-        }
+        classified(r, classify_mesh_bytes(bytes, model, po));
       } catch (const WishError& e) {
         fail(r, file, e);
       }
@@ -110,12 +141,14 @@ CommandRunner setup_predict(CLI::App& sub) {
                        .dump(2)
                 << "\n";
     } else if (o->csv) {
-      std::cout << "file,label,margin";
+      std::cout << "file,label_id,label,margin";
       for (const auto& c : classes) std::cout << ",p_" << c;
       std::cout << "\n" << std::setprecision(10);
       for (const auto& r : results) {
         if (r.contains("error")) continue;
-        std::cout << csv_quote(r["file"].get<std::string>()) << "," << csv_quote(r["label"].get<std::string>()) << ","
+        std::cout << csv_quote(r["file"].get<std::string>()) << ","
+                  << (r.contains("label_id") ? std::to_string(r["label_id"].get<std::uint32_t>()) : "") << ","
+                  << csv_quote(r["label"].get<std::string>()) << ","
                   << r["margin"].get<double>();
         for (const auto& c : classes) std::cout << "," << r["probabilities"][c].get<double>();
         std::cout << "\n";
@@ -123,7 +156,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     } else {
       for (const auto& r : results) {
         if (r.contains("error")) continue;
-        std::cout << r["file"].get<std::string>() << ": " << r["label"].get<std::string>() << "  (margin "
+        std::cout << row_name(r) << ": " << r["label"].get<std::string>() << "  (margin "
                   << std::setprecision(3) << r["margin"].get<double>() << ";";
         for (const auto& c : classes) std::cout << " " << c << " " << std::fixed << std::setprecision(3) << r["probabilities"][c].get<double>();
         std::cout.unsetf(std::ios::fixed);

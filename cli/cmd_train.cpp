@@ -1,7 +1,10 @@
 // `wish train INPUT`: trains an RBF C-SVM classifier as in paper §6 (classification.md) and writes the model
 // file, a JSON report, a printed table and an SVG heat map of the grid. INPUT is
-//   * a directory with one sub-directory per class holding meshes (OBJ, PLY, OFF, STL), or
-//   * a CSV manifest "path,label" (relative paths against the manifest's directory), or
+//   * a directory with one sub-directory per class holding meshes (OBJ, PLY, OFF, STL) and/or label volumes
+//     (NIfTI-1, TIFF; format by content): every kept object of a volume in class folder C is a sample of class C,
+//     id "<volume>#<label id>"; the volume options (--spacing, --min-voxels, --drop-truncated, ...) are mesh-labels', or
+//   * a CSV manifest "path,label[,label_id]" (relative paths against the manifest's directory; a row with a label
+//     id names one object of a volume, with its own class), or
 //   * a descriptor CSV from `wish describe --csv` / `wish train --save-descriptors` (has xi_0.. columns), with a
 //     label column or labels joined from --labels MANIFEST — so a grid search need not redo the flows.
 // The command line makes one DescriptorRecipe (map method and options, SH fit, feature pipeline, off-recipe
@@ -11,25 +14,21 @@
 // when a class loses more than --max-class-loss of its meshes (unless --allow-losses). When the global descriptors are available, accuracies with xi alone, global alone and
 // combined are printed side by side.
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <omp.h>
-
 #include "cli/command_registry.hpp"
 #include "cli/file_bytes.hpp"
-#include "core/linalg/blas_info.hpp"
+#include "cli/volume_options.hpp"
+#include "core/classify/dataset.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/grid_search.hpp"
@@ -38,6 +37,7 @@
 #include "core/classify/training_report.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "core/pipeline/training_set.hpp"
 
 namespace wish::cli {
 namespace {
@@ -46,12 +46,14 @@ namespace fs = std::filesystem;
 
 struct TrainCliOptions {
   std::string input, labels, out = "model.json", report, heatmap, save_descriptors, name = "wish-svm";
-  int lmax = 5;
+  // The defaults are the descriptor recipe chosen by accuracy (issue 12; docs/accuracy.md) and used for the bundled
+  // model (scripts/make-default-model.sh): cMCF map, Lmax 10, log of the energies.
+  int lmax = 10;
   std::string features = "invariants", scale = "none";
-  bool log = false, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
+  bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   std::uint64_t seed = 42;
   int jobs = 0;
-  std::string method = "willmore", weights = "area", solver = "direct";
+  std::string method = "cmcf", weights = "area", solver = "direct";
   double regularization = 1e-5;
   double test_fraction = 0.2;
   std::string off_recipe = "refuse";
@@ -59,97 +61,25 @@ struct TrainCliOptions {
   double max_class_loss = 0.1;
   int grid_splits = 10, nested_repeats = 2, nested_folds = 5;
   std::vector<int> c_range{-2, 10}, gamma_range{-9, 3};
+  VolumeCliOptions volume;
 };
 
 
-bool is_mesh_file(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
+void print_progress(const std::string& line, bool lost, bool quiet) {
+  if (!quiet || lost) std::cerr << line << "\n";
 }
 
-std::vector<std::pair<std::string, std::string>> list_class_directories(const fs::path& root) {
-  std::vector<std::pair<std::string, std::string>> items;
-  std::vector<fs::path> dirs;
-  for (const auto& e : fs::directory_iterator(root))
-    if (e.is_directory()) dirs.push_back(e.path());
-  std::sort(dirs.begin(), dirs.end());
-  for (const auto& d : dirs) {
-    std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(d))
-      if (e.is_regular_file() && is_mesh_file(e.path())) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) items.emplace_back(f.string(), d.filename().string());
-  }
-  return items;
-}
-
-// Describes every mesh in parallel with the recipe; failures and refused off-recipe maps are collected as losses.
-std::vector<TrainingSample> describe_all(const std::vector<std::pair<std::string, std::string>>& items,
-                                         const DescriptorRecipe& recipe, int jobs, bool quiet,
-                                         std::vector<MeshLoss>& failures) {
-  PipelineOptions po = options_for_recipe(recipe);
-  po.compute_global_features = true;  // for the feature family comparison
-  std::vector<std::optional<TrainingSample>> results(items.size());
-  std::vector<std::optional<MeshLoss>> errors(items.size());
-  std::atomic<int> done{0};
-  std::mutex io;
-  const auto start = std::chrono::steady_clock::now();
-  // Parallelism is over meshes: one BLAS and one OpenMP thread per worker, or the workers oversubscribe the cores
-  // (measured on 2 cores: sys time ~ user time from spinning OpenBLAS threads before this).
-  (void)linalg::set_blas_threads(1);
-  parallel_for(static_cast<int>(items.size()), jobs, [&](int i) {
-    omp_set_num_threads(1);
-    const auto& [file, label] = items[static_cast<std::size_t>(i)];
-    std::string status;
-    try {
-      PipelineOptions o = po;
-      const auto dot = file.find_last_of('.');
-      if (dot != std::string::npos) o.read.hint = format_from_name(file.substr(dot));
-      const PipelineResult r = describe_mesh_bytes(read_file_bytes(file), o);
-      const RecipeConformance conformance = check_recipe(recipe, r.map);
-      enforce_recipe_policy(recipe, conformance, "being trained");
-      TrainingSample s;
-      s.off_recipe = !conformance.match;
-      s.id = file;
-      s.label = label;
-      s.features.invariants = r.sh.invariants;
-      s.features.global = r.features.global;
-      std::ostringstream st;
-      st << "ok (" << std::fixed << std::setprecision(2) << r.timings.total << " s, " << to_string(r.map.method_used) << ")";
-      if (s.off_recipe) st << " OFF-RECIPE, kept (accept_flagged)";
-      status = st.str();
-      results[static_cast<std::size_t>(i)] = std::move(s);
-    } catch (const WishError& e) {
-      errors[static_cast<std::size_t>(i)] = MeshLoss{file, label, e.code(), e.what()};
-      status = "FAILED [" + e.code() + "] " + e.what();
-    }
-    const int n = ++done;
-    if (!quiet || status.rfind("FAILED", 0) == 0) {
-      std::lock_guard lock(io);
-      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::cerr << "[" << n << "/" << items.size() << ", " << std::fixed << std::setprecision(0) << elapsed << " s] "
-                << file << ": " << status << "\n";
-      std::cerr.unsetf(std::ios::fixed);
-    }
-  });
-  std::vector<TrainingSample> samples;
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    if (results[i]) samples.push_back(std::move(*results[i]));
-    if (errors[i]) failures.push_back(*errors[i]);
-  }
-  return samples;
-}
-
-nlohmann::json summary_row(const std::string& family, const TrainingReport& r) {
-  return {{"family", family},          {"features", r.feature_names.size()}, {"best_C", r.grid.C()},
-          {"best_gamma", r.grid.gamma()}, {"grid_score", r.grid.best_score},  {"test_accuracy", r.test.accuracy},
-          {"nested_cv_mean", r.nested.mean}, {"nested_cv_std", r.nested.std}};
+nlohmann::json summary_row(const FamilyScore& f) {
+  return {{"family", f.family},        {"features", f.features},          {"best_C", f.C},
+          {"best_gamma", f.gamma},     {"grid_score", f.grid_score},      {"test_accuracy", f.test_accuracy},
+          {"nested_cv_mean", f.nested_mean}, {"nested_cv_std", f.nested_std}};
 }
 
 CommandRunner setup_train(CLI::App& sub) {
   auto o = std::make_shared<TrainCliOptions>();
-  sub.add_option("input", o->input, "Class directory tree, manifest CSV (path,label) or descriptor CSV")->required();
+  sub.add_option("input", o->input,
+                 "Class directory tree (meshes or label volumes), manifest CSV (path,label[,label_id]) or descriptor CSV")
+      ->required();
   sub.add_option("--labels", o->labels, "Manifest CSV (path,label) giving the labels of a descriptor CSV");
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
       ->check(CLI::Range(1, 100))->capture_default_str();
@@ -157,7 +87,7 @@ CommandRunner setup_train(CLI::App& sub) {
       ->check(CLI::IsMember({"invariants", "global", "combined"}))->capture_default_str();
   sub.add_option("--scale", o->scale, "Scale normalisation of xi: none | xi1 | area")
       ->check(CLI::IsMember({"none", "xi1", "area"}))->capture_default_str();
-  sub.add_flag("--log", o->log, "log of the (normalised) energies");
+  sub.add_flag("--log,!--no-log", o->log, "log of the (normalised) energies (default on; --no-log: off)");
   sub.add_flag("--global-scale-free", o->global_scale_free, "Only the scale-free global descriptors");
   sub.add_option("--seed", o->seed, "Seed of splits and Platt calibration")->capture_default_str();
   sub.add_option("--jobs", o->jobs, "Threads (0: all cores)")->capture_default_str();
@@ -189,6 +119,7 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_flag("--refit-all", o->refit_all, "Refit the final model on all samples (default: on the training split)");
   sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");
   sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
+  add_volume_options(sub, o->volume);
   return [o]() {
     DescriptorRecipe recipe;
     recipe.map.method = map_method_from_name(o->method);
@@ -210,11 +141,21 @@ CommandRunner setup_train(CLI::App& sub) {
     std::vector<std::string> unlabelled;
     bool have_global = true;
     const fs::path input = o->input;
+    auto describe = [&](const std::vector<DatasetItem>& items) {
+      DescribeSetOptions d;
+      d.jobs = o->jobs;
+      d.progress = [quiet = o->quiet](const std::string& line, bool lost) { print_progress(line, lost, quiet); };
+      TrainingDescribeOptions how;
+      how.volume = to_volume_options(o->volume);
+      TrainingSet set = describe_dataset(items, recipe_describer(recipe, how), d);
+      samples = std::move(set.samples);
+      failures = std::move(set.losses);
+    };
     if (fs::is_directory(input)) {
       const auto items = list_class_directories(input);
-      if (items.empty()) throw InvalidInputError("training_data", "no meshes in class sub-directories of " + o->input);
-      std::cerr << "describing " << items.size() << " meshes (Lmax " << o->lmax << ", " << o->method << ")\n";
-      samples = describe_all(items, recipe, o->jobs, o->quiet, failures);
+      if (items.empty()) throw InvalidInputError("training_data", "no meshes or label volumes in class sub-directories of " + o->input);
+      std::cerr << "describing " << items.size() << " files (Lmax " << o->lmax << ", " << o->method << ")\n";
+      describe(items);
     } else {
       const std::string text = read_file_bytes(o->input);
       const auto rows = parse_csv(text.substr(0, text.find('\n') + 1));
@@ -239,22 +180,17 @@ CommandRunner setup_train(CLI::App& sub) {
                   << "; the model records the map/fit settings given on this command line\n";
         for (const auto& f : unlabelled) std::cerr << "wish train: skipped " << f << ": no label\n";
       } else {
-        const auto items = read_manifest(text, input.parent_path());
-        std::cerr << "describing " << items.size() << " meshes from the manifest (Lmax " << o->lmax << ")\n";
-        samples = describe_all(items, recipe, o->jobs, o->quiet, failures);
+        const auto items = read_dataset_manifest(text, input.parent_path());
+        std::cerr << "describing " << items.size() << " files from the manifest (Lmax " << o->lmax << ")\n";
+        describe(items);
       }
     }
     for (const auto& f : failures) std::cerr << "wish train: lost " << f.id << ": [" << f.code << "] " << f.message << "\n";
     if (!failures.empty()) {
-      std::vector<std::string> kept, flagged;
-      for (const auto& smp : samples) {
-        kept.push_back(smp.label);
-        if (smp.off_recipe) flagged.push_back(smp.label);
-      }
       // Before training can stop on them; the stdout report repeats the table (training_report_table).
       std::cerr << failures.size() << " of " << samples.size() + failures.size()
-                << " meshes are NOT in the training set (refused or failed):\n"
-                << loss_table(summarize_losses(kept, failures, flagged)) << "\n";
+                << " samples (meshes or volume objects) are NOT in the training set (refused or failed):\n"
+                << loss_table(summarize_training_set({samples, failures})) << "\n";
     }
     if (!o->save_descriptors.empty()) {
       std::ofstream(o->save_descriptors) << write_descriptor_table(samples);
@@ -287,18 +223,15 @@ CommandRunner setup_train(CLI::App& sub) {
     const TrainingResult result = train_classifier(samples, t);
     result.model.save(o->out);
 
+    const std::vector<FamilyScore> families =
+        have_global && !o->no_compare
+            ? compare_feature_families(samples, t, result.report,
+                                       [](const std::string& family) {
+                                         std::cerr << "comparison: training with features " << family << "\n";
+                                       })
+            : std::vector<FamilyScore>{family_score(o->features, result.report)};
     nlohmann::json comparison = nlohmann::json::array();
-    comparison.push_back(summary_row(o->features, result.report));
-    if (have_global && !o->no_compare) {
-      for (const char* family : {"invariants", "global", "combined"}) {
-        if (family == o->features) continue;
-        TrainOptions u = t;
-        u.recipe.features.family = feature_family_from_name(family);
-        u.progress = nullptr;
-        std::cerr << "comparison: training with features " << family << "\n";
-        comparison.push_back(summary_row(family, train_classifier(samples, u).report));
-      }
-    }
+    for (const auto& f : families) comparison.push_back(summary_row(f));
 
     std::cout << training_report_table(result.report) << "\n";
     std::cout << "feature family comparison (same splits and seed):\n";

@@ -71,13 +71,14 @@ DescriptorTable read_table(const std::string& csv_text, const std::map<std::stri
   const auto rows = parse_csv(csv_text);
   if (rows.empty()) bad("the descriptor CSV is empty");
   const auto& header = rows[0];
-  int file_col = -1, label_col = -1;
+  int file_col = -1, label_col = -1, label_id_col = -1;
   std::map<int, int> xi_col;  // l -> column
   std::map<std::string, int> g_col;
   for (int c = 0; c < static_cast<int>(header.size()); ++c) {
     const std::string& h = header[c];
     if (h == "file" || h == "path") file_col = c;
     else if (h == "label" || h == "class") label_col = c;
+    else if (h == "label_id") label_id_col = c;
     else if (h.rfind("xi_", 0) == 0) xi_col[std::atoi(h.c_str() + 3)] = c;
     else if (h.rfind("g_", 0) == 0) g_col[h.substr(2)] = c;
   }
@@ -96,6 +97,7 @@ DescriptorTable read_table(const std::string& csv_text, const std::map<std::stri
       bad("line " + std::to_string(i + 1) + " has " + std::to_string(r.size()) + " fields, the header " + std::to_string(header.size()));
     TrainingSample s;
     s.id = r[file_col];
+    if (label_id_col >= 0 && !r[label_id_col].empty()) s.id += "#" + r[label_id_col];  // an object of a label volume
     if (label_col >= 0) s.label = r[label_col];
     if (s.label.empty()) {
       auto it = labels.find(s.id);

@@ -3,7 +3,8 @@
 // `wish describe --csv` (columns file, ..., xi_0..xi_L) plus, when present, a `label` column and global
 // descriptor columns g_<name> (as written by `wish train --save-descriptors`); labels may instead come from a
 // separate manifest (path,label) joined on the file column (exact path, else file name). Other columns are
-// ignored. RFC 4180 quoting.
+// ignored; a non-empty label_id column (an object of a label volume) makes the sample's id "<file>#<label_id>",
+// as `wish train` names volume objects. RFC 4180 quoting.
 
 #include <filesystem>
 #include <map>

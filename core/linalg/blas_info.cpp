@@ -2,6 +2,8 @@
 
 #include <dlfcn.h>
 
+#include "core/common/thread_policy.hpp"
+
 namespace wish::linalg {
 namespace {
 
@@ -29,13 +31,7 @@ BlasInfo blas_info() {
   return info;
 }
 
-bool set_blas_threads(int threads) {
-  using SetThreads = void (*)(int);
-  const auto set = lookup<SetThreads>("openblas_set_num_threads");
-  if (!set) return false;
-  set(threads < 1 ? 1 : threads);
-  return true;
-}
+bool set_blas_threads(int threads) { return set_blas_thread_count(threads); }
 
 std::string describe_blas() {
   const BlasInfo info = blas_info();

@@ -18,7 +18,7 @@ struct BlasInfo {
 BlasInfo blas_info();
 // Sets the BLAS thread count (per worker: call with 1 when the caller parallelises over meshes). Returns false when
 // the loaded BLAS offers no such call.
-bool set_blas_threads(int threads);
+bool set_blas_threads(int threads);  // = wish::set_blas_thread_count (core/common/thread_policy.hpp)
 // One line for logs: "OpenBLAS (OpenBLAS 0.3.21 ...), 1 thread(s)".
 std::string describe_blas();
 
