@@ -31,7 +31,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 
 [[noreturn]] void bad_manifest(std::size_t line, const std::string& what) {
-  throw InvalidInputError("manifest", "manifest line " + std::to_string(line) + ": " + what, {{"line", std::to_string(line)}});
+  throw InvalidInputError("invalid_manifest", "manifest line " + std::to_string(line) + ": " + what, {{"line", std::to_string(line)}});
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ std::vector<DatasetItem> list_class_directories(const std::filesystem::path& roo
 
 // A manifest CSV "path,label[,label_id]" (header optional: path|file,label|class[,label_id]); relative paths are
 // resolved against `base`. Rows with a label id name one object of a label volume; rows of the same file with
-// label ids become one item (the volume is read once). Throws InvalidInputError("manifest") naming the line.
+// label ids become one item (the volume is read once). Throws InvalidInputError("invalid_manifest") naming the line.
 std::vector<DatasetItem> read_dataset_manifest(const std::string& csv_text, const std::filesystem::path& base);
 
 // What one item gave: samples (with their labels) and losses (a mesh, an object, or the whole file when it could

@@ -12,7 +12,7 @@ namespace wish {
 
 std::string read_input_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidInputError("file_not_found", "cannot open '" + path + "'", {{"file", path}});
+  if (!in) throw IoError("file_not_found", "cannot open '" + path + "'", {{"file", path}});
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
@@ -108,7 +108,7 @@ ItemDescriber recipe_describer(const DescriptorRecipe& recipe, const TrainingDes
     if (detect_volume_format(bytes) != VolumeFormat::Unknown)  // by content, not by name
       return describe_volume_item(item, bytes, recipe, po, options.volume);
     if (!item.object_labels.empty())
-      throw InvalidInputError("manifest", "'" + item.path + "' is listed with label ids but is not a label volume "
+      throw InvalidInputError("invalid_manifest", "'" + item.path + "' is listed with label ids but is not a label volume "
                                           "(NIfTI-1 or TIFF)", {{"file", item.path}});
     return describe_mesh_item(item, bytes, recipe, po);
   };

@@ -17,7 +17,7 @@ struct TrainingDescribeOptions {
   VolumeOptions volume;   // for label volumes: voxel size, object filters, surface
 };
 
-// The file's bytes, or InvalidInputError("file_not_found") naming it.
+// The file's bytes, or IoError("file_not_found") naming it.
 std::string read_input_file(const std::string& path);
 
 ItemDescriber recipe_describer(const DescriptorRecipe& recipe, const TrainingDescribeOptions& options = {});

@@ -121,10 +121,11 @@ TEST(ErrorCodes, EveryThrownCodeIsListedWithItsCategory) {
     const auto* info = wish::find_error_code(use.code);
     ASSERT_NE(info, nullptr) << "code \"" << use.code << "\" at " << use.where
                              << " is not listed in core/common/error_codes.cpp";
-    if (use.category && info->category)
+    if (use.category && info->category) {
       EXPECT_EQ(*use.category, *info->category)
           << "\"" << use.code << "\" at " << use.where << " is thrown as " << wish::to_string(*use.category)
           << " but listed as " << wish::to_string(*info->category);
+    }
   }
 }
 
