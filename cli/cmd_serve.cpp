@@ -38,6 +38,13 @@ CommandRunner setup_serve(CLI::App& sub) {
       ->envname("WISH_MAX_STEPS")->capture_default_str();
   sub.add_option("--time-limit", c.time_limit_seconds, "Seconds per request, queue wait included (504 past it)")
       ->envname("WISH_TIME_LIMIT")->capture_default_str();
+  sub.add_option("--max-volume-voxels", c.max_volume_voxels, "Most voxels in one uploaded label volume (413 above)")
+      ->envname("WISH_MAX_VOLUME_VOXELS")->capture_default_str();
+  sub.add_option("--max-volume-objects", c.max_volume_objects, "Most objects in one uploaded label volume (413 above)")
+      ->envname("WISH_MAX_VOLUME_OBJECTS")->capture_default_str();
+  sub.add_option("--volume-time-limit", c.volume_time_limit_seconds,
+                 "Seconds per request that uploads a label volume, queue wait included (504 past it)")
+      ->envname("WISH_VOLUME_TIME_LIMIT")->capture_default_str();
   sub.add_option("--queue-size", c.queue_size, "Jobs waiting for a worker (503 + Retry-After beyond)")
       ->envname("WISH_QUEUE_SIZE")->capture_default_str();
   sub.add_option("--workers", c.workers, "Compute workers (0: number of cores)")->envname("WISH_WORKERS")

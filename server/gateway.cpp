@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/common/errors.hpp"
+#include "core/io/volume_io.hpp"
 
 namespace wish::server {
 
@@ -82,8 +83,12 @@ std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, co
                                                const std::shared_ptr<const LoadedModel>& model,
                                                const std::vector<MeshPart>& parts) {
   // One job per part; all of them are queued or none (a batch is not half-accepted). The time limit counts from
-  // the request's arrival, so time spent reading the body and waiting in the queue is part of it.
-  const auto limit = std::chrono::duration<double>(config_.time_limit_seconds);
+  // the request's arrival, so time spent reading the body and waiting in the queue is part of it; a request that
+  // uploads a label volume (many objects, each described) has the volume time limit.
+  bool any_volume = false;
+  for (const auto& part : parts) any_volume = any_volume || part.volume;
+  const double limit_seconds = any_volume ? config_.volume_time_limit_seconds : config_.time_limit_seconds;
+  const auto limit = std::chrono::duration<double>(limit_seconds);
   auto cancel = std::make_shared<std::atomic<bool>>(false);
   std::vector<std::future<ComputeOutcome>> futures;
   std::vector<WorkerPool::Job> jobs;
@@ -93,6 +98,7 @@ std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, co
     job->params = params;
     job->model = model;
     job->part = part;
+    job->request_id = request.request_id;
     job->deadline = Deadline::after(limit - (Clock::now() - request.arrival));
     job->deadline.attach_cancel_flag(cancel);
     job->submitted = Clock::now();
@@ -121,8 +127,8 @@ std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, co
     }
     cancel->store(true);  // the job stops at its next check; its result is dropped
     ComputeOutcome late;
-    late.error = to_api_error(TimeoutError("time limit of " + std::to_string(config_.time_limit_seconds) +
-                                           " s exceeded", {{"stage", std::string("compute")}}));
+    late.error = to_api_error(TimeoutError("time limit of " + std::to_string(limit_seconds) + " s exceeded",
+                                           {{"stage", std::string("compute")}, {"limit_seconds", limit_seconds}}));
     late.status = late.error.status;
     outcomes.push_back(std::move(late));
   }
@@ -180,6 +186,7 @@ ApiResponse Gateway::compute(ComputeRequest request) {
     if (request.multipart) parts = split_multipart(std::move(request.form), request.params, config_);
     else parts.push_back(raw_body_part(std::move(request.body), request.content_type));
     part_count = static_cast<int>(parts.size());
+    for (auto& part : parts) part.volume = detect_volume_format(*part.bytes) != VolumeFormat::Unknown;
 
     const ComputeParams params = parse_compute_params(request.op, request.params, config_);
     const auto model = resolve_model(request.op, params);

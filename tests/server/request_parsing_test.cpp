@@ -103,6 +103,42 @@ TEST(ParseComputeParams, LimitsAreSizeProblems) {
   EXPECT_EQ(detail(e, "limit"), "steps");
 }
 
+TEST(ParseComputeParams, EveryMapMethodOfTheContract) {
+  for (const char* m : {"willmore", "cmcf", "linear"})
+    EXPECT_EQ(parse_compute_params(Operation::Describe, {{"method", m}}, config()).method, m);
+  // A step cap for the one-solve linear map would be silently ignored: refused.
+  const auto e = thrown([] { parse_compute_params(Operation::Describe, {{"method", "linear"}, {"steps", "5"}}, config()); });
+  EXPECT_EQ(detail(e, "parameter"), "steps");
+}
+
+TEST(ParseComputeParams, VolumeParametersMirrorMeshLabels) {
+  const ComputeParams p = parse_compute_params(
+      Operation::Describe,
+      {{"spacing", "0.016, 0.016,0.015"}, {"unit", "um"}, {"objects", "Components"}, {"min_voxels", "50"},
+       {"drop_truncated", "TRUE"}, {"labels", "3,7, 12"}},
+      config());
+  ASSERT_TRUE(p.volume.spacing);
+  EXPECT_DOUBLE_EQ((*p.volume.spacing)[2], 0.015);
+  EXPECT_EQ(p.volume.unit, "um");
+  EXPECT_EQ(p.volume.objects, "components");
+  EXPECT_EQ(p.volume.min_voxels, 50);
+  EXPECT_TRUE(p.volume.drop_truncated);
+  EXPECT_EQ(p.volume.labels, (std::vector<std::uint32_t>{3, 7, 12}));
+  EXPECT_EQ(p.volume.given.size(), 6u);
+  EXPECT_TRUE(parse_compute_params(Operation::Describe, {}, config()).volume.given.empty());
+}
+
+TEST(ParseComputeParams, VolumeParameterRefusals) {
+  for (const auto& [name, value] : std::vector<std::pair<std::string, std::string>>{
+           {"spacing", "1,1"}, {"spacing", "1,-1,1"}, {"spacing", "1,nan,1"}, {"spacing", "1,1,1,1"},
+           {"unit", "n m"}, {"unit", ""}, {"objects", "cells"}, {"min_voxels", "-3"}, {"drop_truncated", "2"},
+           {"labels", "0"}, {"labels", "1,,2"}, {"labels", "-4"}, {"labels", "4294967296"}}) {
+    const auto e = thrown([&, n = name, v = value] { parse_compute_params(Operation::Describe, {{n, v}}, config()); });
+    EXPECT_EQ(e.code(), "bad_parameter") << name << "=" << value;
+    EXPECT_EQ(detail(e, "parameter"), name) << value;
+  }
+}
+
 TEST(SplitMultipart, FilePartsAreMeshesOtherFieldsParameters) {
   ParamMap params{{"lmax", "6"}};
   auto meshes = split_multipart({{"mesh", "a.ply", "application/octet-stream", "A"}, {"include", "", "", "mesh"},
