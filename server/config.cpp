@@ -16,7 +16,7 @@ void require(bool ok, const std::string& what) {
 
 void ServerConfig::finalize() {
   if (workers <= 0) workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (http_threads <= 0) http_threads = workers + queue_size + 8;
+  if (http_threads <= 0) http_threads = std::max(1024, workers + queue_size + 8);
   require(port >= 0 && port <= 65535, "port must be in 0..65535");
   require(max_upload_bytes > 0, "max upload bytes must be > 0");
   require(max_vertices > 0 && max_faces > 0, "vertex and face limits must be > 0");
@@ -29,6 +29,7 @@ void ServerConfig::finalize() {
   require(queue_size >= 0, "queue size must be >= 0");
   require(workers <= 1024 && http_threads <= 4096, "too many threads");
   require(shutdown_grace_seconds >= 0, "grace period must be >= 0");
+  require(read_timeout_seconds > 0 && read_timeout_seconds <= 3600, "read timeout must be in (0, 3600] s");
   require(retry_after_seconds >= 1, "retry-after must be >= 1");
   require(!models_dir.empty(), "a models directory is required (--models / WISH_MODELS)");
 }
@@ -52,6 +53,7 @@ std::string ServerConfig::describe() const {
       << "queue_size = " << queue_size << "\n"
       << "workers = " << workers << "\n"
       << "http_threads = " << http_threads << "\n"
+      << "read_timeout_seconds = " << read_timeout_seconds << "\n"
       << "shutdown_grace_seconds = " << shutdown_grace_seconds << "\n"
       << "retry_after_seconds = " << retry_after_seconds << "\n"
       << "web_dir = " << (web_dir.empty() ? std::string("(none: no web page)") : web_dir.string()) << "\n"

@@ -29,8 +29,10 @@ struct ServerConfig {
   double volume_time_limit_seconds = 600;  // the same for a request that uploads a label volume
   int queue_size = 32;               // jobs waiting for a worker; beyond: 503 + Retry-After
   int workers = 0;                   // compute threads; 0: number of cores
-  int http_threads = 0;              // HTTP connection threads; 0: workers + queue_size + 8 (so a full queue
-                                     // is answered with 503 instead of leaving connections unserved)
+  int http_threads = 0;              // most HTTP connection threads, started on demand, one per open connection:
+                                     // the connection cap (connection_threads.hpp); 0: 1024
+  double read_timeout_seconds = 10;  // a connection that sends nothing for this long (headers, or body progress)
+                                     // is dropped, freeing its thread; a slow upload that keeps sending is fine
   double shutdown_grace_seconds = 30;  // SIGTERM: finish in-flight requests within this, then cancel them
   int retry_after_seconds = 1;
 

@@ -13,11 +13,13 @@
 
 #include "server/api_response.hpp"
 #include "server/cancel_registry.hpp"
+#include "server/connection_threads.hpp"
 #include "server/error_mapping.hpp"
 #include "server/gateway.hpp"
 #include "server/logging.hpp"
 #include "server/openapi_document.hpp"
 #include "server/request_parsing.hpp"
+#include "server/routes.hpp"
 #include "server/static_assets.hpp"
 
 namespace wish::server {
@@ -125,6 +127,17 @@ ComputeRequest read_compute_request(Operation op, const httplib::Request& req, h
   return out;
 }
 
+// httplib's task queue over the on-demand connection threads (connection_threads.hpp).
+class ConnectionTaskQueue : public httplib::TaskQueue {
+ public:
+  explicit ConnectionTaskQueue(std::size_t max_threads) : threads_(max_threads) {}
+  void enqueue(std::function<void()> fn) override { threads_.enqueue(std::move(fn)); }
+  void shutdown() override { threads_.shutdown(); }
+
+ private:
+  ConnectionThreads threads_;
+};
+
 }  // namespace
 
 struct HttpServer::Impl {
@@ -137,13 +150,17 @@ struct HttpServer::Impl {
   Impl(const ServerConfig& c, ModelRegistry& m, WorkerPool& p, Metrics& me)
       : config(c), metrics(me), gateway(c, m, p, me, cancels) {
     const std::size_t threads = static_cast<std::size_t>(config.http_threads);
-    server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    server.new_task_queue = [threads] { return new ConnectionTaskQueue(threads); };
     server.set_payload_max_length(config.max_upload_bytes);
     // httplib writes the headers and the body of a response separately; with Nagle's algorithm on, the body waits
     // for the client's delayed ACK (40 ms on Linux): a 5 ms describe of a small mesh took 46 ms end to end.
     server.set_tcp_nodelay(true);
     server.set_keep_alive_timeout(2);
-    server.set_read_timeout(30, 0);
+    // Per read: a silent client is dropped after this, a slow one that keeps sending is not.
+    const auto read_timeout = std::chrono::duration<double>(config.read_timeout_seconds);
+    const auto read_sec = std::chrono::duration_cast<std::chrono::seconds>(read_timeout);
+    server.set_read_timeout(read_sec.count(),
+                            std::chrono::duration_cast<std::chrono::microseconds>(read_timeout - read_sec).count());
     server.set_write_timeout(30, 0);
     install_hooks();
     install_routes();
@@ -172,11 +189,21 @@ struct HttpServer::Impl {
     // Every >= 400 response passes here; a response without a body came from httplib itself (404 route, 413
     // payload, 400 framing): give it the one error body.
     server.set_error_handler(httplib::Server::HandlerWithResponse(
-        [](const httplib::Request& req, httplib::Response& res) {
+        [this](const httplib::Request& req, httplib::Response& res) {
       if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
       if (t_request.request_id.empty()) t_request.request_id = new_request_id();
       res.set_header("X-Request-Id", t_request.request_id);
-      ApiError error = res.status == 404 ? route_not_found_error(req.method, req.path) : status_error(res.status);
+      ApiError error = status_error(res.status);
+      if (res.status == 404) {
+        // A known path with another method is 405 with Allow (httplib itself answers 404 for it).
+        const std::string allow = allowed_methods(req.path, !config.web_dir.empty());
+        if (!allow.empty() && !method_allowed(allow, req.method)) {
+          error = method_not_allowed_error(req.method, req.path, allow);
+          res.set_header("Allow", allow);
+        } else {
+          error = route_not_found_error(req.method, req.path);
+        }
+      }
       write_error(res, error);
       return httplib::Server::HandlerResponse::Handled;
     }));
