@@ -4,7 +4,11 @@
 
 namespace wish::server {
 
-ConnectionThreads::ConnectionThreads(std::size_t max_threads) : max_threads_(std::max<std::size_t>(1, max_threads)) {}
+ConnectionThreads::ConnectionThreads(std::size_t warm_threads, std::size_t max_threads)
+    : max_threads_(std::max<std::size_t>(1, max_threads)) {
+  std::lock_guard lock(mutex_);
+  for (std::size_t i = 0; i < std::min(warm_threads, max_threads_); ++i) threads_.emplace_back([this] { run(); });
+}
 
 ConnectionThreads::~ConnectionThreads() { shutdown(); }
 

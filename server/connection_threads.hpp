@@ -6,6 +6,8 @@
 // as fewer than `max_threads` connections are open, and a silent connection frees its thread after the read
 // timeout (http_server.cpp). Connections beyond the cap wait in FIFO order for a thread (httplib 0.11.4 gives no
 // hook to refuse an accepted socket: its per-connection function is private). Idle threads stay for reuse.
+// `warm_threads` are started at once: a connection accepted just before a stop must start before httplib sees the
+// listener closed (else it is closed unanswered), and starting a thread under load takes milliseconds.
 
 #include <condition_variable>
 #include <cstddef>
@@ -19,7 +21,7 @@ namespace wish::server {
 
 class ConnectionThreads {
  public:
-  explicit ConnectionThreads(std::size_t max_threads);
+  ConnectionThreads(std::size_t warm_threads, std::size_t max_threads);
   ~ConnectionThreads();  // shutdown()
   ConnectionThreads(const ConnectionThreads&) = delete;
   ConnectionThreads& operator=(const ConnectionThreads&) = delete;

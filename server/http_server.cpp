@@ -130,7 +130,7 @@ ComputeRequest read_compute_request(Operation op, const httplib::Request& req, h
 // httplib's task queue over the on-demand connection threads (connection_threads.hpp).
 class ConnectionTaskQueue : public httplib::TaskQueue {
  public:
-  explicit ConnectionTaskQueue(std::size_t max_threads) : threads_(max_threads) {}
+  ConnectionTaskQueue(std::size_t warm_threads, std::size_t max_threads) : threads_(warm_threads, max_threads) {}
   void enqueue(std::function<void()> fn) override { threads_.enqueue(std::move(fn)); }
   void shutdown() override { threads_.shutdown(); }
 
@@ -150,7 +150,9 @@ struct HttpServer::Impl {
   Impl(const ServerConfig& c, ModelRegistry& m, WorkerPool& p, Metrics& me)
       : config(c), metrics(me), gateway(c, m, p, me, cancels) {
     const std::size_t threads = static_cast<std::size_t>(config.http_threads);
-    server.new_task_queue = [threads] { return new ConnectionTaskQueue(threads); };
+    // Warm: every worker busy and the job queue full still finds a thread (so it is answered 503 at once).
+    const std::size_t warm = static_cast<std::size_t>(config.workers + config.queue_size + 8);
+    server.new_task_queue = [warm, threads] { return new ConnectionTaskQueue(warm, threads); };
     server.set_payload_max_length(config.max_upload_bytes);
     // httplib writes the headers and the body of a response separately; with Nagle's algorithm on, the body waits
     // for the client's delayed ACK (40 ms on Linux): a 5 ms describe of a small mesh took 46 ms end to end.

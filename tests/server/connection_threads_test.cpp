@@ -26,7 +26,7 @@ bool wait_for(F condition, std::chrono::milliseconds limit = 5000ms) {
 }
 
 TEST(ConnectionThreads, BusyTasksDoNotBlockANewOneBelowTheCap) {
-  ConnectionThreads threads(64);
+  ConnectionThreads threads(0, 64);
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
   std::atomic<int> started{0};
@@ -47,7 +47,7 @@ TEST(ConnectionThreads, BusyTasksDoNotBlockANewOneBelowTheCap) {
 }
 
 TEST(ConnectionThreads, AtTheCapATaskWaitsForAThread) {
-  ConnectionThreads threads(2);
+  ConnectionThreads threads(0, 2);
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
   std::atomic<int> started{0};
@@ -62,10 +62,16 @@ TEST(ConnectionThreads, AtTheCapATaskWaitsForAThread) {
   EXPECT_TRUE(wait_for([&] { return third.load(); }));
 }
 
+TEST(ConnectionThreads, WarmThreadsAreStartedAtOnceAndCapped) {
+  ConnectionThreads threads(8, 4);
+  EXPECT_EQ(threads.threads(), 4u);
+  EXPECT_TRUE(wait_for([&] { return threads.busy() == 0; }));  // all idle, waiting for connections
+}
+
 TEST(ConnectionThreads, ShutdownRunsWhatIsQueued) {
   std::atomic<int> done{0};
   {
-    ConnectionThreads threads(1);
+    ConnectionThreads threads(1, 1);
     for (int i = 0; i < 5; ++i)
       threads.enqueue([&] {
         std::this_thread::sleep_for(1ms);
