@@ -31,7 +31,7 @@ struct ServerConfig {
   int workers = 0;                   // compute threads; 0: number of cores
   int http_threads = 0;              // most HTTP connection threads, started on demand, one per open connection:
                                      // the connection cap (connection_threads.hpp); 0: 1024
-  double read_timeout_seconds = 10;  // a connection that sends nothing for this long (headers, or body progress)
+  double read_timeout_seconds = 30;  // a connection that sends nothing for this long (headers, or body progress)
                                      // is dropped, freeing its thread; a slow upload that keeps sending is fine
   double shutdown_grace_seconds = 30;  // SIGTERM: finish in-flight requests within this, then cancel them
   int retry_after_seconds = 1;
