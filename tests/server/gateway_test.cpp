@@ -289,9 +289,13 @@ TEST(Gateway, DeadlineCountsFromArrival) {
   EXPECT_EQ(expired.load(), 0);
 
   // Arrived 2 s ago with a 1 s limit (a slow upload): the job's deadline has already passed when it starts.
+  // (The gateway's own wait ends at arrival + limit + 1 s, i.e. now: it may answer 504 before the job ran, so the
+  // test waits for the job itself.)
+  expired = -1;
   ComputeRequest old = raw_request(Operation::Describe, "x");
   old.arrival = Clock::now() - 2s;
   f.gateway.compute(std::move(old));
+  ASSERT_TRUE(wait_for([&] { return expired.load() != -1; }));
   EXPECT_EQ(expired.load(), 1);
 }
 
