@@ -1,4 +1,4 @@
-// `wish serve --models DIR --port 8080 ...`: the HTTP service (server/). Every option also reads a WISH_*
+// `wish serve [--models DIR] --port 8080 ...`: the HTTP service (server/). Every option also reads a WISH_*
 // environment variable (CLI11 envname); a flag given on the command line wins over the environment.
 #include <memory>
 
@@ -15,10 +15,11 @@ CommandRunner setup_serve(CLI::App& sub) {
   auto config = std::make_shared<server::ServerConfig>();
   auto& c = *config;
   // The options write into objects that outlive setup (the runner is called after parsing).
-  auto models_dir = std::make_shared<std::string>();
-  sub.add_option("--models", *models_dir, "Directory of *.json classifier models (reloaded on SIGHUP)")
+  auto models_dir = std::make_shared<std::string>(WISH_MODELS_DIR_DEFAULT);
+  sub.add_option("--models", *models_dir,
+                 "Directory of *.json classifier models (reloaded on SIGHUP); default: the bundled default model")
       ->envname("WISH_MODELS")
-      ->required();
+      ->capture_default_str();
   sub.add_option("--host", c.host, "Listen address")->envname("WISH_HOST")->capture_default_str();
   sub.add_option("--port", c.port, "Listen port (0: any free port, logged at start)")->envname("WISH_PORT")
       ->capture_default_str();
@@ -38,12 +39,23 @@ CommandRunner setup_serve(CLI::App& sub) {
       ->envname("WISH_MAX_STEPS")->capture_default_str();
   sub.add_option("--time-limit", c.time_limit_seconds, "Seconds per request, queue wait included (504 past it)")
       ->envname("WISH_TIME_LIMIT")->capture_default_str();
+  sub.add_option("--max-volume-voxels", c.max_volume_voxels, "Most voxels in one uploaded label volume (413 above)")
+      ->envname("WISH_MAX_VOLUME_VOXELS")->capture_default_str();
+  sub.add_option("--max-volume-objects", c.max_volume_objects, "Most objects in one uploaded label volume (413 above)")
+      ->envname("WISH_MAX_VOLUME_OBJECTS")->capture_default_str();
+  sub.add_option("--volume-time-limit", c.volume_time_limit_seconds,
+                 "Seconds per request that uploads a label volume, queue wait included (504 past it)")
+      ->envname("WISH_VOLUME_TIME_LIMIT")->capture_default_str();
   sub.add_option("--queue-size", c.queue_size, "Jobs waiting for a worker (503 + Retry-After beyond)")
       ->envname("WISH_QUEUE_SIZE")->capture_default_str();
   sub.add_option("--workers", c.workers, "Compute workers (0: number of cores)")->envname("WISH_WORKERS")
       ->capture_default_str();
-  sub.add_option("--http-threads", c.http_threads, "HTTP connection threads (0: workers + queue size + 8)")
+  sub.add_option("--http-threads", c.http_threads,
+                 "Most HTTP connection threads, started on demand, one per open connection (0: 1024)")
       ->envname("WISH_HTTP_THREADS")->capture_default_str();
+  sub.add_option("--read-timeout", c.read_timeout_seconds,
+                 "Seconds a connection may send nothing (headers or body) before it is dropped")
+      ->envname("WISH_READ_TIMEOUT")->capture_default_str();
   sub.add_option("--shutdown-grace", c.shutdown_grace_seconds, "Seconds to finish in-flight requests on SIGTERM")
       ->envname("WISH_SHUTDOWN_GRACE")->capture_default_str();
   sub.add_option("--retry-after", c.retry_after_seconds, "Retry-After seconds sent with 503")

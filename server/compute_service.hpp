@@ -23,6 +23,7 @@ struct ComputeJob {
   ComputeParams params;
   std::shared_ptr<const LoadedModel> model;  // classify: the model this request started with
   MeshPart part;
+  std::string request_id;                     // echoed in each object result of a label volume
   Deadline deadline;                          // from request arrival; queue wait counts
   std::chrono::steady_clock::time_point submitted{};
 };

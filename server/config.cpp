@@ -16,7 +16,7 @@ void require(bool ok, const std::string& what) {
 
 void ServerConfig::finalize() {
   if (workers <= 0) workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (http_threads <= 0) http_threads = workers + queue_size + 8;
+  if (http_threads <= 0) http_threads = std::max(1024, workers + queue_size + 8);
   require(port >= 0 && port <= 65535, "port must be in 0..65535");
   require(max_upload_bytes > 0, "max upload bytes must be > 0");
   require(max_vertices > 0 && max_faces > 0, "vertex and face limits must be > 0");
@@ -24,9 +24,12 @@ void ServerConfig::finalize() {
   require(max_parts >= 1, "max parts must be >= 1");
   require(max_steps >= 1, "max steps must be >= 1");
   require(time_limit_seconds > 0, "time limit must be > 0");
+  require(volume_time_limit_seconds > 0, "volume time limit must be > 0");
+  require(max_volume_voxels > 0 && max_volume_objects > 0, "volume voxel and object limits must be > 0");
   require(queue_size >= 0, "queue size must be >= 0");
   require(workers <= 1024 && http_threads <= 4096, "too many threads");
   require(shutdown_grace_seconds >= 0, "grace period must be >= 0");
+  require(read_timeout_seconds > 0 && read_timeout_seconds <= 3600, "read timeout must be in (0, 3600] s");
   require(retry_after_seconds >= 1, "retry-after must be >= 1");
   require(!models_dir.empty(), "a models directory is required (--models / WISH_MODELS)");
 }
@@ -43,10 +46,14 @@ std::string ServerConfig::describe() const {
       << "max_lmax = " << max_lmax << "\n"
       << "max_parts = " << max_parts << "\n"
       << "max_steps = " << max_steps << "\n"
+      << "max_volume_voxels = " << max_volume_voxels << "\n"
+      << "max_volume_objects = " << max_volume_objects << "\n"
       << "time_limit_seconds = " << time_limit_seconds << "\n"
+      << "volume_time_limit_seconds = " << volume_time_limit_seconds << "\n"
       << "queue_size = " << queue_size << "\n"
       << "workers = " << workers << "\n"
       << "http_threads = " << http_threads << "\n"
+      << "read_timeout_seconds = " << read_timeout_seconds << "\n"
       << "shutdown_grace_seconds = " << shutdown_grace_seconds << "\n"
       << "retry_after_seconds = " << retry_after_seconds << "\n"
       << "web_dir = " << (web_dir.empty() ? std::string("(none: no web page)") : web_dir.string()) << "\n"

@@ -21,12 +21,18 @@ struct ServerConfig {
   int max_lmax = 40;                             // SH degree a describe request may ask for
   int max_parts = 16;                            // mesh parts in one multipart request
   int max_steps = 200;                           // flow step cap a request may ask for
+  // Label volume uploads (NIfTI-1, TIFF): one result per object.
+  std::int64_t max_volume_voxels = 256ll * 256 * 256;  // nx * ny * nz, checked before the voxels are allocated
+  std::int64_t max_volume_objects = 1'000;             // distinct objects found in one volume (before the filters)
 
   double time_limit_seconds = 120;   // per request, from arrival (queue wait included); 504 past it
+  double volume_time_limit_seconds = 600;  // the same for a request that uploads a label volume
   int queue_size = 32;               // jobs waiting for a worker; beyond: 503 + Retry-After
   int workers = 0;                   // compute threads; 0: number of cores
-  int http_threads = 0;              // HTTP connection threads; 0: workers + queue_size + 8 (so a full queue
-                                     // is answered with 503 instead of leaving connections unserved)
+  int http_threads = 0;              // most HTTP connection threads, started on demand, one per open connection:
+                                     // the connection cap (connection_threads.hpp); 0: 1024
+  double read_timeout_seconds = 30;  // a connection that sends nothing for this long (headers, or body progress)
+                                     // is dropped, freeing its thread; a slow upload that keeps sending is fine
   double shutdown_grace_seconds = 30;  // SIGTERM: finish in-flight requests within this, then cancel them
   int retry_after_seconds = 1;
 

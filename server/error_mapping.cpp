@@ -77,6 +77,11 @@ ApiError route_not_found_error(const std::string& method, const std::string& pat
   return {404, "not_found", "no route " + method + " " + path, {{"method", method}, {"path", path}}, 0};
 }
 
+ApiError method_not_allowed_error(const std::string& method, const std::string& path, const std::string& allow) {
+  return {405, "method_not_allowed", path + " does not take " + method + " (allowed: " + allow + ")",
+          {{"method", method}, {"path", path}, {"allow", allow}}, 0};
+}
+
 ApiError status_error(int status) {
   switch (status) {
     case 413:

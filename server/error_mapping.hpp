@@ -34,6 +34,8 @@ ApiError to_api_error(std::exception_ptr error);
 // Errors that originate in the HTTP layer itself, not in core (statuses still decided only in this file).
 ApiError unauthorized_error();
 ApiError route_not_found_error(const std::string& method, const std::string& path);
+// 405: a known path, another method; `allow` is the Allow header's value ("GET, HEAD").
+ApiError method_not_allowed_error(const std::string& method, const std::string& path, const std::string& allow);
 ApiError status_error(int status);  // a bare status from the HTTP library (e.g. 413 payload, 400 framing)
 
 // The one JSON encoding of ErrorDetails (ErrorDetailValue: integer, number or string per key), for the service's

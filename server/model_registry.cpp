@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
+#include <fstream>
 #include <map>
 
 #include <spdlog/spdlog.h>
@@ -108,6 +109,16 @@ std::shared_ptr<const ModelRegistry::Snapshot> ModelRegistry::snapshot() const {
   return snapshot_;
 }
 
+namespace {
+// A readable JSON object with no "format" member: some other JSON (a training report), not a broken model.
+bool is_other_json(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return doc.is_object() && !doc.contains("format");
+}
+}  // namespace
+
 ReloadReport ModelRegistry::reload() {
   std::lock_guard reload_lock(reload_mutex_);
   const auto previous = snapshot();
@@ -136,6 +147,11 @@ ReloadReport ModelRegistry::reload() {
     const auto size = std::filesystem::file_size(path, stat_ec);
     if (!stat_ec && old != previous->by_file.end() && old->second->mtime == mtime && old->second->size == size) {
       model = old->second;  // unchanged: keep the very same object
+    } else if (is_other_json(path)) {
+      // `wish train` writes <model>-report.json beside the model: a JSON object without a "format" is not a model
+      // file that failed, so it is skipped without an error (a file that claims a format and fails is refused).
+      spdlog::debug("models: skipped {}: not a model file (no \"format\" member)", file);
+      continue;
     } else {
       try {
         auto loaded = std::make_shared<LoadedModel>(LoadedModel{ClassifierModel::load(path), path, mtime, size, {}});

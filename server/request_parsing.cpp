@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <set>
 
 #include "core/common/errors.hpp"
@@ -41,11 +42,73 @@ std::string trim(const std::string& s) {
 
 bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
+std::vector<std::string> split_commas(const std::string& value) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = value.find(',', start);
+    out.push_back(trim(value.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
+double parse_positive(const std::string& name, const std::string& item, const std::string& value) {
+  double out = 0;
+  const char* end = item.data() + item.size();
+  const auto [ptr, ec] = std::from_chars(item.data(), end, out);
+  if (item.empty() || ec != std::errc() || ptr != end || !std::isfinite(out) || out <= 0)
+    invalid_parameter(name, "parameter " + name + "='" + value + "': '" + item + "' is not a positive number", value);
+  return out;
+}
+
+// The volume parameters (VolumeParams); false when `name` is not one.
+bool parse_volume_param(const std::string& name, const std::string& value, VolumeParams& out) {
+  if (name == "spacing") {
+    const auto items = split_commas(value);
+    if (items.size() != 3)
+      invalid_parameter(name, "parameter spacing='" + value + "' must be three voxel sizes x,y,z", value);
+    out.spacing = std::array<double, 3>{parse_positive(name, items[0], value), parse_positive(name, items[1], value),
+                                        parse_positive(name, items[2], value)};
+  } else if (name == "unit") {
+    const bool plain = !value.empty() && value.size() <= 16 &&
+                       std::all_of(value.begin(), value.end(), [](unsigned char c) { return std::isalpha(c) || c == '_'; });
+    if (!plain) invalid_parameter(name, "parameter unit='" + value + "' must be a unit name such as nm or um", value);
+    out.unit = value;
+  } else if (name == "objects") {
+    const std::string m = lower(value);
+    if (m != "auto" && m != "labels" && m != "components")
+      invalid_parameter(name, "objects must be auto, labels or components, not '" + value + "'", value);
+    out.objects = m;
+  } else if (name == "min_voxels") {
+    out.min_voxels = parse_int(name, value, 0, 2'000'000'000);
+  } else if (name == "drop_truncated") {
+    const std::string b = lower(value);
+    if (b == "true" || b == "1" || b == "yes") out.drop_truncated = true;
+    else if (b == "false" || b == "0" || b == "no") out.drop_truncated = false;
+    else invalid_parameter(name, "drop_truncated must be true or false, not '" + value + "'", value);
+  } else if (name == "labels") {
+    for (const auto& item : split_commas(value)) {
+      std::uint32_t id = 0;
+      const char* end = item.data() + item.size();
+      const auto [ptr, ec] = std::from_chars(item.data(), end, id);
+      if (item.empty() || ec != std::errc() || ptr != end || id == 0)
+        invalid_parameter(name, "parameter labels='" + value + "': '" + item + "' is not a label id (1..4294967295)", value);
+      out.labels.push_back(id);
+    }
+  } else {
+    return false;
+  }
+  out.given.push_back(name);
+  return true;
+}
+
 }  // namespace
 
 ComputeParams parse_compute_params(Operation op, const ParamMap& params, const ServerConfig& config) {
   static const std::set<std::string> known_describe{"lmax", "method", "steps", "include", "reconstruction_level",
-                                                    "format"};
+                                                    "format", "spacing", "unit", "objects", "min_voxels",
+                                                    "drop_truncated", "labels"};
   ComputeParams out;
   std::set<std::string> seen;
   for (const auto& [name, raw] : params) {
@@ -57,6 +120,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
                               {{"parameter", name}});
     if (!seen.insert(name).second)
       throw InvalidInputError("invalid_parameter", "parameter '" + name + "' given more than once", {{"parameter", name}});
+    if (parse_volume_param(name, value, out.volume)) continue;
     if (name == "model") {
       if (value.empty()) invalid_parameter(name, "parameter model is empty", value);
       out.model = value;
@@ -70,7 +134,9 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.lmax = lmax;
     } else if (name == "method") {
       const std::string m = lower(value);
-      if (m != "willmore" && m != "cmcf") invalid_parameter(name, "method must be willmore or cmcf, not '" + value + "'", value);
+      // The methods of core/spherical_map (map_method_from_name) and of proto/openapi.json's `method` parameter.
+      if (m != "willmore" && m != "cmcf" && m != "linear")
+        invalid_parameter(name, "method must be willmore, cmcf or linear, not '" + value + "'", value);
       out.method = m;
     } else if (name == "steps") {
       const int steps = parse_int(name, value, 1, 1000000);
@@ -110,6 +176,10 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.format = f;
     }
   }
+  // The linear map is one solve, no flow: a step cap for it would be silently ignored.
+  if (out.method == "linear" && out.steps)
+    throw InvalidInputError("invalid_parameter", "parameter steps does not apply to method linear (a single solve)",
+                            {{"parameter", std::string("steps")}, {"method", std::string("linear")}});
   return out;
 }
 

@@ -4,6 +4,8 @@
 // code, mapped to a status in error_mapping.cpp: invalid_parameter (400), limit_exceeded / too_many_parts (413),
 // unsupported_media_type (415), no_mesh (400).
 
+#include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -16,10 +18,22 @@ namespace wish::server {
 
 enum class Operation { Describe, Classify };
 
+// How a label volume upload becomes objects; mirrors `wish mesh-labels` (cli/volume_options.hpp). Only for volume
+// parts: given with a mesh part they are refused, not ignored.
+struct VolumeParams {
+  std::optional<std::array<double, 3>> spacing;  // ?spacing=x,y,z: voxel size, overrides the file's; each > 0
+  std::optional<std::string> unit;               // ?unit=nm
+  std::string objects = "auto";                  // ?objects=auto|labels|components
+  std::int64_t min_voxels = 0;                   // ?min_voxels=N: smaller objects are dropped
+  bool drop_truncated = false;                   // ?drop_truncated=true: drop objects touching the border
+  std::vector<std::uint32_t> labels;             // ?labels=3,7,12: only these label ids (empty: all)
+  std::vector<std::string> given;                // names of the volume parameters the request set
+};
+
 struct ComputeParams {
   std::string model;                  // classify: "" -> the default model
   std::optional<int> lmax;            // explicit descriptor settings (absent: default or the model's)
-  std::optional<std::string> method;  // "willmore" | "cmcf"
+  std::optional<std::string> method;  // "willmore" | "cmcf" | "linear"
   std::optional<int> steps;
   bool include_coefficients = false;
   bool include_invariants = true;
@@ -28,6 +42,7 @@ struct ComputeParams {
   bool include_mesh = false, include_sphere = false, include_distortion = false;  // the "geometry" block
   int reconstruction_level = 3;
   std::string format;                 // "obj" | "ply" | "off" | "stl" | "" (hint only; content detection wins)
+  VolumeParams volume;
   bool explicit_descriptor() const { return lmax || method || steps; }
 };
 
@@ -42,6 +57,7 @@ struct MeshPart {
   std::string filename;      // from the part's Content-Disposition, or ""
   std::string content_type;  // the part's or the request's Content-Type
   std::shared_ptr<const std::string> bytes;  // shared: a job may outlive the HTTP thread that waited for it
+  bool volume = false;       // a label volume (NIfTI-1 / TIFF by content), set by the gateway: one result per object
 };
 
 struct FormPart {

@@ -54,6 +54,43 @@ class ServerApiTest(unittest.TestCase):
         self.assertEqual(r.status, 200)
         self.assertEqual(r.json(), h.OPENAPI)  # the embedded copy is the committed contract
 
+    def test_contract_parameters_are_the_parsers(self):
+        """Every query parameter and every `method` the contract lists for /v1/describe is one the server parses
+        (the contract once listed `linear`, which the server refused)."""
+        def sample(schema):
+            if "enum" in schema:
+                return schema["enum"][0]
+            t = schema.get("type")
+            if t == "integer":
+                return str(max(schema.get("minimum", 1), 1))
+            if t == "boolean":
+                return "false"
+            if t == "array":
+                n = schema.get("minItems", 1)
+                return ",".join([sample(schema["items"])] * n)
+            if t == "number":
+                return "1"
+            return "nm"
+        params = [h.OPENAPI["components"]["parameters"][p["$ref"].split("/")[-1]]
+                  for p in h.OPENAPI["paths"]["/v1/describe"]["post"]["parameters"]]
+        volume_only = {"spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels"}
+        for p in params:
+            r = self.server.post_mesh("/v1/describe?%s=%s" % (p["name"], sample(p["schema"])), self.sphere_off)
+            body = r.json()
+            if p["name"] in volume_only:  # known, and refused for a mesh part rather than ignored
+                self.assertEqual(r.status, 400, p["name"])
+                self.assertIn("label volumes", body["error"]["message"])
+            else:
+                self.assertEqual(r.status, 200, (p["name"], body))
+        methods = h.OPENAPI["components"]["parameters"]["method"]["schema"]["enum"]
+        for m in methods:
+            r = self.server.post_mesh("/v1/describe?lmax=4&method=" + m, self.sphere_off)
+            self.assertEqual(r.status, 200, (m, r.body[:300]))
+            self.assertEqual(r.json()["descriptor"]["settings"]["method"], m)
+        r = self.server.post_mesh("/v1/describe?method=spectral", self.sphere_off)
+        self.assertEqual(r.status, 400)
+        self.assertIn(", ".join(methods[:-1]) + " or " + methods[-1], r.json()["error"]["message"])
+
     def test_metrics_text_format(self):
         self.server.request("GET", "/healthz")
         r = self.server.request("GET", "/metrics")
@@ -66,6 +103,19 @@ class ServerApiTest(unittest.TestCase):
             self.assertIn(name, text)
         self.assertGreaterEqual(self.server.metric("wish_http_requests_total", {"route": "/healthz", "status": "200"}), 1)
         self.assertEqual(self.server.metric("wish_workers"), 2)
+
+    def test_wrong_method_is_405_with_allow(self):
+        for method, path, allow in (("POST", "/healthz", "GET, HEAD"), ("GET", "/v1/describe", "POST"),
+                                    ("DELETE", "/v1/models/default", "GET, HEAD"), ("PUT", "/v1/classify", "POST"),
+                                    ("GET", "/v1/admin/reload", "POST")):
+            r = self.server.request(method, path, body=b"" if method in ("POST", "PUT") else None)
+            self.assertEqual(r.status, 405, (method, path, r.body[:200]))
+            self.assertEqual(r.header("Allow"), allow, (method, path))
+            h.validate("Error", r.json())
+            self.assertEqual(r.json()["error"]["code"], "method_not_allowed")
+            self.assertEqual(r.json()["error"]["details"]["allow"], allow)
+        self.assertEqual(self.server.request("HEAD", "/healthz").status, 200)  # a GET route answers HEAD
+        self.assertEqual(self.server.request("POST", "/v1/nothing", body=b"").status, 404)  # unknown path: 404
 
     def test_unknown_route_is_json_404(self):
         r = self.server.request("GET", "/v1/nothing")
@@ -242,6 +292,27 @@ class ServerApiTest(unittest.TestCase):
         self.assertEqual(r.status, 400)
         self.assertEqual(r.json()["error"]["details"]["parameter"], "method")
 
+
+
+@unittest.skipIf(SKIP, SKIP or "")
+class ServerDefaultModelTest(unittest.TestCase):
+    def test_serve_without_models_uses_the_bundled_default(self):
+        if not os.path.exists(h.DEFAULT_MODEL):
+            self.skipTest("no bundled default model")
+        env = {k: v for k, v in os.environ.items() if k != "WISH_MODELS"}
+        with h.Server(models_dir=False, env=env) as s:
+            r = s.request("GET", "/readyz")
+            self.assertEqual(r.status, 200, r.body[:300])
+            names = [m["name"] for m in s.request("GET", "/v1/models").json()["models"]]
+            self.assertEqual(len(names), 1)
+            r = s.post_mesh("/v1/classify", h.read_bytes(os.path.join(h.SOURCE_DIR, "data", "meshes", "sphere.off")))
+            self.assertEqual(r.status, 200, r.body[:300])
+            log = s.log_text()
+        # default-report.json beside the model is not a model: no error line, nothing refused.
+        self.assertIn("data/models", log)
+        self.assertNotIn(" error ", log)
+        self.assertNotIn("refused default-report.json", log)
+        self.assertIn("(0 refused)", log)
 
 if __name__ == "__main__":
     unittest.main()

@@ -114,12 +114,13 @@ class Server:
 
     def __init__(self, models_dir=None, args=(), env=None, start_timeout=30):
         self.tmp = tempfile.mkdtemp(prefix="wish-server-test-")
-        if models_dir is None:
+        if models_dir is None:  # an empty models directory; False: no --models at all (the bundled default model)
             models_dir = os.path.join(self.tmp, "models")
             os.makedirs(models_dir)
         self.models_dir = models_dir
         self.log_path = os.path.join(self.tmp, "server.log")
-        cmd = [WISH_BIN, "serve", "--models", models_dir, "--host", "127.0.0.1", "--port", "0"] + list(args)
+        models_args = [] if models_dir is False else ["--models", models_dir]
+        cmd = [WISH_BIN, "serve"] + models_args + ["--host", "127.0.0.1", "--port", "0"] + list(args)
         full_env = dict(os.environ)
         full_env.update(env or {})
         self.log = open(self.log_path, "wb")

@@ -1,9 +1,13 @@
 """Batch classification: many files, parallel requests, retries, resumable output, a summary.
 
-The output (``.csv`` or ``.json``) has one record per mesh file:
+The output (``.csv`` or ``.json``) has one record per mesh file, and one per object of a label volume
+(``.nii``, ``.nii.gz``, ``.tif``, ``.tiff``: every object classified in one request, keyed by its label id):
 
 =============== ====================================================================================
-file            the mesh path as expanded from the command line (the resume key)
+file            the mesh or volume path as expanded from the command line (the resume key)
+label_id        the object's label id in a label volume ("" for a mesh, and for a volume that failed whole)
+voxel_count     the object's voxel count (volumes)
+truncated       ``true`` when the object touches the volume border (volumes)
 status          ``ok`` or ``error``
 label           predicted class (ok)
 confidence      probability of ``label``
@@ -15,7 +19,8 @@ error_message   the server's sentence (error)
 request_id      the server's request id, to find the request in its logs
 =============== ====================================================================================
 
-Resuming: records already in the output with ``status == ok`` are skipped; failed files are tried again. While a run
+Resuming: files whose records in the output all have ``status == ok`` are skipped; failed files are tried again
+(a volume as a whole: its records are replaced by the new run's). While a run
 is in progress every finished record is appended (and flushed) to ``<out>.partial`` (JSON Lines); the output is
 rewritten atomically at the end and the journal removed, so an interrupted run (Ctrl-C, crash, power loss) loses at
 most the requests in flight.
@@ -37,17 +42,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from .client import ClassifyResult, WishClient
+from .client import VOLUME_EXTENSIONS, VOLUME_PARAMETERS, ClassifyResult, WishClient, is_volume_name
 from .errors import WishClientError, WishConnectionError, WishInputError, WishServerError
 
 #: File extensions taken when a folder is expanded (case-insensitive). Files named explicitly are always taken.
 MESH_EXTENSIONS = (".obj", ".ply", ".off", ".stl")
+INPUT_EXTENSIONS = MESH_EXTENSIONS + VOLUME_EXTENSIONS
 
-BASE_COLUMNS = ["file", "status", "label", "confidence", "margin", "model", "error_code", "error_message",
-                "request_id"]
+BASE_COLUMNS = ["file", "label_id", "status", "label", "confidence", "margin", "model", "voxel_count", "truncated",
+                "error_code", "error_message", "request_id"]
 
 
-def expand_paths(paths: Iterable[str | os.PathLike], extensions: Sequence[str] = MESH_EXTENSIONS) -> list[str]:
+def expand_paths(paths: Iterable[str | os.PathLike], extensions: Sequence[str] = INPUT_EXTENSIONS) -> list[str]:
     """Expands folders (recursively, sorted, hidden entries skipped) to the mesh files in them.
 
     Files given explicitly are kept whatever their extension; duplicates are dropped, first occurrence wins.
@@ -96,34 +102,48 @@ class Record:
     error_code: str = ""
     error_message: str = ""
     request_id: str = ""
+    label_id: str = ""                # volumes: the object's label id
+    voxel_count: int | None = None    # volumes
+    truncated: bool | None = None     # volumes
+
+    @property
+    def key(self) -> tuple[str, str]:
+        return (self.file, self.label_id)
 
     @classmethod
-    def from_result(cls, file: str, r: ClassifyResult) -> Record:
+    def from_result(cls, file: str, r: ClassifyResult, label_id: str = "") -> Record:
         return cls(file=file, status="ok", label=r.label, confidence=r.confidence, margin=r.margin,
-                   model=r.model or "", probabilities=dict(r.probabilities), request_id=r.request_id or "")
+                   model=r.model or "", probabilities=dict(r.probabilities), request_id=r.request_id or "",
+                   label_id=label_id)
 
     @classmethod
-    def from_error(cls, file: str, e: Exception) -> Record:
+    def from_error(cls, file: str, e: Exception, label_id: str = "") -> Record:
         if isinstance(e, WishServerError):
             return cls(file=file, status="error", error_code=e.code, error_message=e.message,
-                       request_id=e.request_id or "")
+                       request_id=e.request_id or "", label_id=label_id)
         code = "connection_error" if isinstance(e, WishConnectionError) else (
             "read_error" if isinstance(e, WishInputError) else type(e).__name__)
-        return cls(file=file, status="error", error_code=code, error_message=str(e))
+        return cls(file=file, status="error", error_code=code, error_message=str(e), label_id=label_id)
 
     def to_json(self) -> dict[str, Any]:
-        return {"file": self.file, "status": self.status, "label": self.label, "confidence": self.confidence,
-                "margin": self.margin, "model": self.model, "probabilities": self.probabilities,
+        return {"file": self.file, "label_id": self.label_id, "status": self.status, "label": self.label,
+                "confidence": self.confidence, "margin": self.margin, "model": self.model,
+                "probabilities": self.probabilities, "voxel_count": self.voxel_count, "truncated": self.truncated,
                 "error_code": self.error_code, "error_message": self.error_message, "request_id": self.request_id}
 
     @classmethod
     def from_json(cls, d: dict[str, Any]) -> Record:
+        truncated = d.get("truncated")
+        if isinstance(truncated, str):
+            truncated = {"true": True, "false": False}.get(truncated.lower())
+        voxels = d.get("voxel_count")
         return cls(file=str(d["file"]), status=str(d.get("status", "ok")), label=d.get("label") or "",
                    confidence=_opt_float(d.get("confidence")), margin=_opt_float(d.get("margin")),
                    model=d.get("model") or "", probabilities={k: float(v) for k, v in
                                                                (d.get("probabilities") or {}).items()},
                    error_code=d.get("error_code") or "", error_message=d.get("error_message") or "",
-                   request_id=d.get("request_id") or "")
+                   request_id=d.get("request_id") or "", label_id=str(d.get("label_id") or ""),
+                   voxel_count=int(voxels) if voxels not in (None, "") else None, truncated=truncated)
 
 
 def _opt_float(v: Any) -> float | None:
@@ -142,7 +162,7 @@ def output_format(path: str | os.PathLike) -> str:
 
 def read_records(path: str | os.PathLike) -> list[Record]:
     """Reads an output file (CSV or JSON) and its ``.partial`` journal, if present. Later records win."""
-    records: dict[str, Record] = {}
+    records: dict[tuple[str, str], Record] = {}
     p = Path(path)
     if p.exists() and p.stat().st_size > 0:
         if output_format(p) == "csv":
@@ -150,12 +170,12 @@ def read_records(path: str | os.PathLike) -> list[Record]:
                 for row in csv.DictReader(f):
                     probs = {k[5:]: float(v) for k, v in row.items() if k and k.startswith("prob_") and v}
                     rec = Record.from_json({**row, "probabilities": probs})
-                    records[rec.file] = rec
+                    records[rec.key] = rec
         else:
             doc = json.loads(p.read_text(encoding="utf-8"))
             for d in (doc.get("results", []) if isinstance(doc, dict) else doc):
                 rec = Record.from_json(d)
-                records[rec.file] = rec
+                records[rec.key] = rec
     journal = Path(str(p) + ".partial")
     if journal.exists():
         with journal.open(encoding="utf-8") as f:
@@ -167,7 +187,7 @@ def read_records(path: str | os.PathLike) -> list[Record]:
                     rec = Record.from_json(json.loads(line))
                 except (ValueError, KeyError):
                     continue  # a line torn by a crash mid-write: that file is simply done again
-                records[rec.file] = rec
+                records[rec.key] = rec
     return list(records.values())
 
 
@@ -199,6 +219,8 @@ def write_records(path: str | os.PathLike, records: Sequence[Record], summary: d
 def _csv_cell(v: Any) -> str:
     if v is None:
         return ""
+    if isinstance(v, bool):
+        return "true" if v else "false"
     if isinstance(v, float):
         return repr(v)
     return str(v)
@@ -309,11 +331,13 @@ class BatchReport:
 
 def classify_batch(client: WishClient, files: Sequence[str], out: str | os.PathLike, *, jobs: int = 4,
                    model: str | None = None, params: dict[str, Any] | None = None,
-                   progress: Progress | None = None,
+                   volume_params: dict[str, Any] | None = None, progress: Progress | None = None,
                    on_record: Callable[[Record], None] | None = None) -> BatchReport:
     """Classifies ``files`` with ``jobs`` requests in flight, appending to ``out`` (resumable, see module doc).
 
-    One request per file, so one bad mesh fails alone and retries resend only what failed. The client's
+    One request per file, so one bad mesh fails alone and retries resend only what failed. A label volume is one
+    request that classifies every object (``volume_params``: spacing, unit, objects, min_voxels, drop_truncated,
+    labels — proto's volume parameters, sent with volumes only) and gives one record per object. The client's
     :class:`~wish_client.client.RetryPolicy` handles 503/connection errors; a file still failing after it is
     recorded as ``error`` with the reason, and the run goes on.
     """
@@ -321,8 +345,10 @@ def classify_batch(client: WishClient, files: Sequence[str], out: str | os.PathL
     if jobs < 1:
         raise WishInputError("--jobs must be at least 1")
     started = time.monotonic()
-    previous = {r.file: r for r in read_records(out)}
-    todo = [f for f in files if previous.get(f, Record(f, "error")).status != "ok"]
+    previous: dict[str, list[Record]] = {}
+    for r in read_records(out):
+        previous.setdefault(r.file, []).append(r)
+    todo = [f for f in files if not previous.get(f) or any(r.status != "ok" for r in previous[f])]
     skipped = len(files) - len(todo)
     # The previous output stays untouched until the final atomic rewrite; new records go to the journal.
     journal_path = Path(str(out) + ".partial")
@@ -348,19 +374,43 @@ def classify_batch(client: WishClient, files: Sequence[str], out: str | os.PathL
 
     client.on_retry = on_retry
     extra = dict(params or {})
+    volume_extra = dict(volume_params or {})
+    unknown = sorted(set(volume_extra) - set(VOLUME_PARAMETERS))
+    if unknown:
+        raise WishInputError(f"not volume parameters: {', '.join(unknown)} (known: {', '.join(VOLUME_PARAMETERS)})")
 
-    def one(file: str) -> Record:
+    def volume_records(file: str) -> list[Record]:
+        result = client.classify_volume(file, model=model, **{**extra, **volume_extra})
+        out_records = []
+        for o in result.objects:
+            label_id = str(o.label_id)
+            if o.result is not None:
+                rec = Record.from_result(file, o.result, label_id)  # type: ignore[arg-type]
+            else:
+                rec = Record.from_error(file, o.error or WishServerError(o.status, "error", ""), label_id)
+            rec.voxel_count = o.object.get("voxel_count")
+            rec.truncated = o.object.get("truncated")
+            out_records.append(rec)
+        if not out_records:  # every object filtered out: say so rather than write nothing
+            out_records.append(Record(file=file, status="error", error_code="no_objects", error_message=(
+                f"no object kept of {result.volume.get('objects_found', 0)} found ({result.volume.get('dropped')})"),
+                request_id=result.request_id or ""))
+        return out_records
+
+    def one(file: str) -> list[Record]:
         try:
+            if is_volume_name(file):
+                return volume_records(file)
             result = client.classify(file, model=model, **extra)  # one path -> raw body -> one ClassifyResult
-            return Record.from_result(file, result)  # type: ignore[arg-type]
+            return [Record.from_result(file, result)]  # type: ignore[arg-type]
         except WishClientError as e:
-            return Record.from_error(file, e)
+            return [Record.from_error(file, e)]
         except Exception as e:  # noqa: BLE001 - a bug here must not lose the other files' results
-            return Record.from_error(file, e)
+            return [Record.from_error(file, e)]
 
     try:
         with ThreadPoolExecutor(max_workers=jobs, thread_name_prefix="wish-batch") as pool:
-            pending: set[Future[Record]] = set()
+            pending: set[Future[list[Record]]] = set()
             queue = iter(todo)
             # Submit lazily (at most 2*jobs outstanding) so Ctrl-C does not leave thousands of queued futures.
             for file in queue:
@@ -370,14 +420,16 @@ def classify_batch(client: WishClient, files: Sequence[str], out: str | os.PathL
             while pending:
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
-                    rec = fut.result()
+                    recs = fut.result()
                     with journal_lock:
-                        journal.write(json.dumps(rec.to_json()) + "\n")
+                        for rec in recs:
+                            journal.write(json.dumps(rec.to_json()) + "\n")
                         journal.flush()
-                    new.append(rec)
-                    progress.update(rec.status == "ok")
+                    new.extend(recs)
+                    progress.update(all(rec.status == "ok" for rec in recs))
                     if on_record:
-                        on_record(rec)
+                        for rec in recs:
+                            on_record(rec)
                     nxt = next(queue, None)
                     if nxt is not None:
                         pending.add(pool.submit(one, nxt))
@@ -386,11 +438,17 @@ def classify_batch(client: WishClient, files: Sequence[str], out: str | os.PathL
         journal.close()
         progress.close()
 
-    merged = dict(previous)
+    # A file done again replaces all its previous records (a volume's objects may differ from a failed attempt's).
+    redone = {r.file for r in new}
+    merged = {r.key: r for recs in previous.values() for r in recs if r.file not in redone}
     for r in new:
-        merged[r.file] = r
+        merged[r.key] = r
     order = {f: i for i, f in enumerate(files)}
-    records = sorted(merged.values(), key=lambda r: (order.get(r.file, len(order)), r.file))
+
+    def sort_key(r: Record) -> tuple[int, str, int, str]:
+        return (order.get(r.file, len(order)), r.file, int(r.label_id) if r.label_id.isdigit() else -1, r.label_id)
+
+    records = sorted(merged.values(), key=sort_key)
     report = BatchReport(total=len(files), skipped=skipped, records=records, new=new, retries=retries,
                          elapsed=time.monotonic() - started)
     write_records(out, records, report.summary())

@@ -20,7 +20,7 @@ from typing import Any
 
 from . import __version__
 from .batch import Progress, classify_batch, expand_paths, output_format
-from .client import RetryPolicy, WishClient
+from .client import RetryPolicy, WishClient, volume_query
 from .errors import WishConnectionError, WishInputError, WishServerError
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_UNREACHABLE = 0, 1, 2, 3
@@ -32,6 +32,31 @@ def _key_value(text: str) -> tuple[str, str]:
         raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
     k, v = text.split("=", 1)
     return k, v
+
+
+def _spacing(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 3 or not all(v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected three positive voxel sizes X,Y,Z, not {text!r}")
+    return values
+
+
+def _label_ids(text: str) -> list[int]:
+    try:
+        ids = [int(v) for v in text.split(",")]
+    except ValueError:
+        ids = []
+    if not ids or not all(i > 0 for i in ids):
+        raise argparse.ArgumentTypeError(f"expected label ids 1,2,..., not {text!r}")
+    return ids
+
+
+def _volume_params(args: argparse.Namespace) -> dict[str, Any]:
+    return volume_query(spacing=args.spacing, unit=args.unit, objects=args.objects, min_voxels=args.min_voxels,
+                        drop_truncated=True if args.drop_truncated else None, labels=args.labels)
 
 
 def _add_server_args(p: argparse.ArgumentParser) -> None:
@@ -57,10 +82,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"wish-client {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    c = sub.add_parser("classify", help="classify mesh files and folders in parallel into a CSV/JSON file",
-                       description="Classify meshes (folders are expanded recursively to *.obj/*.ply/*.off/*.stl). "
-                       "Resumable: files already classified in --out are skipped; failed ones are tried again.")
-    c.add_argument("paths", nargs="+", metavar="PATH", help="mesh files or folders")
+    c = sub.add_parser("classify", help="classify mesh files, label volumes and folders in parallel into a CSV/JSON file",
+                       description="Classify meshes and every object of label volumes (folders are expanded "
+                       "recursively to *.obj/*.ply/*.off/*.stl/*.nii/*.nii.gz/*.tif/*.tiff; a volume gives one row per "
+                       "object, keyed by label_id). Resumable: files already classified in --out are skipped; failed "
+                       "ones are tried again.")
+    c.add_argument("paths", nargs="+", metavar="PATH", help="mesh files, label volumes or folders")
     _add_server_args(c)
     c.add_argument("--jobs", "-j", type=int, default=4, help="requests in flight (default: %(default)s); match "
                    "the server's worker count (times the number of instances behind a balancer)")
@@ -68,6 +95,13 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--model", help="model name (default: the server's default model)")
     c.add_argument("--param", action="append", type=_key_value, default=[], metavar="KEY=VALUE",
                    help="extra query parameter of POST /v1/classify (repeatable)")
+    v = c.add_argument_group("label volumes (as `wish mesh-labels`; sent with volumes only)")
+    v.add_argument("--spacing", type=_spacing, metavar="X,Y,Z", help="voxel size, overriding the file's")
+    v.add_argument("--unit", help="unit of the voxel size (e.g. nm, um)")
+    v.add_argument("--objects", choices=["auto", "labels", "components"], help="object rule (server default: auto)")
+    v.add_argument("--min-voxels", type=int, help="drop objects with fewer voxels")
+    v.add_argument("--drop-truncated", action="store_true", help="drop objects touching the volume border")
+    v.add_argument("--labels", type=_label_ids, metavar="ID,ID,...", help="only these label ids")
     c.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     c.add_argument("--summary-json", action="store_true", help="print the summary as JSON instead of text")
 
@@ -91,7 +125,7 @@ def _cmd_classify(args: argparse.Namespace) -> int:
     client = _client(args)
     progress = Progress(len(files), enabled=not args.no_progress)
     report = classify_batch(client, files, args.out, jobs=args.jobs, model=args.model, params=dict(args.param),
-                            progress=progress)
+                            volume_params=_volume_params(args), progress=progress)
     if args.summary_json:
         print(json.dumps(report.summary(), indent=1))
     else:

@@ -39,6 +39,45 @@ MeshInput = Union[str, os.PathLike, bytes, tuple[str, bytes]]
 
 _FORMATS = ("obj", "ply", "off", "stl")  # the `format` hint of a raw body (proto: components/parameters/format)
 
+#: Label volume files (NIfTI-1, TIFF stacks); the server detects them from the content. Volume options
+#: (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated, labels) mirror ``wish mesh-labels``.
+VOLUME_EXTENSIONS = (".nii", ".nii.gz", ".tif", ".tiff")
+VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels")
+
+
+def is_volume_name(name: str | os.PathLike) -> bool:
+    """True for names ending .nii, .nii.gz, .tif, .tiff (case-insensitive)."""
+    return str(name).lower().endswith(VOLUME_EXTENSIONS)
+
+
+def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None = None, objects: str | None = None,
+                 min_voxels: int | None = None, drop_truncated: bool | str | None = None,
+                 labels: Sequence[int] | str | None = None) -> dict[str, Any]:
+    """The query parameters of a volume upload (``None``: the server's default). ``spacing`` and ``labels`` may
+    also be given already encoded ("1,1,2", "3,7")."""
+    q: dict[str, Any] = {}
+    if isinstance(spacing, str):
+        q["spacing"] = spacing
+    elif spacing is not None:
+        if len(spacing) != 3:
+            raise WishInputError(f"spacing needs three voxel sizes x,y,z, not {list(spacing)}")
+        q["spacing"] = ",".join(repr(float(v)) for v in spacing)
+    if unit is not None:
+        q["unit"] = unit
+    if objects is not None:
+        q["objects"] = objects
+    if min_voxels is not None:
+        q["min_voxels"] = int(min_voxels)
+    if isinstance(drop_truncated, str):
+        q["drop_truncated"] = drop_truncated
+    elif drop_truncated is not None:
+        q["drop_truncated"] = "true" if drop_truncated else "false"
+    if isinstance(labels, str):
+        q["labels"] = labels
+    elif labels:
+        q["labels"] = ",".join(str(int(v)) for v in labels)
+    return q
+
 
 @dataclass(frozen=True)
 class RetryPolicy:
@@ -110,6 +149,43 @@ class DescribeResult:
     lmax: int | None = None
     request_id: str | None = None
     raw: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class VolumeObjectResult:
+    """One object of a label volume: its label id, the voxel object, and its result or the error of that object.
+
+    Attributes:
+        label_id: the label value (components mode: the component number).
+        status: the HTTP status this object alone would have had (200 when described).
+        object: voxel count, centroid (physical units), bounding box, ``truncated``, genus, surface figures.
+        result: a :class:`ClassifyResult` (classify) or :class:`DescribeResult` (describe) when ``status == 200``.
+        error: the object's :class:`WishServerError` otherwise (e.g. code ``genus_nonzero``).
+    """
+
+    label_id: int
+    status: int
+    object: dict[str, Any] = field(default_factory=dict)
+    result: ClassifyResult | DescribeResult | None = None
+    error: WishServerError | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.result is not None
+
+
+@dataclass
+class VolumeResult:
+    """A label volume upload (proto: VolumeResult): one entry per kept object, in label-id order."""
+
+    name: str
+    objects: list[VolumeObjectResult]
+    volume: dict[str, Any] = field(default_factory=dict)  # format, dims, spacing, unit, objects found / dropped
+    request_id: str | None = None
+    raw: dict[str, Any] = field(default_factory=dict)
+
+    def by_label(self) -> dict[int, VolumeObjectResult]:
+        return {o.label_id: o for o in self.objects}
 
 
 def _parse_retry_after(value: str | None) -> float | None:
@@ -311,6 +387,36 @@ class WishClient:
         results = [r if isinstance(r, WishServerError) else _parse_describe(name, r) for name, r in items]
         return results[0] if single else results  # type: ignore[return-value]
 
+    def classify_volume(self, volume: MeshInput, *, model: str | None = None, spacing: Sequence[float] | None = None,
+                        unit: str | None = None, objects: str | None = None, min_voxels: int | None = None,
+                        drop_truncated: bool | None = None, labels: Sequence[int] | None = None, **params: Any
+                        ) -> VolumeResult:
+        """Classifies every object of a label volume (NIfTI-1 .nii / .nii.gz, TIFF stack) in one request.
+
+        The volume options mirror ``wish mesh-labels``: ``spacing`` (x, y, z voxel size, overriding the file's),
+        ``unit``, ``objects`` (``labels`` / ``components`` / ``auto``), ``min_voxels``, ``drop_truncated``,
+        ``labels`` (a subset of label ids). An object that cannot be classified carries its own error; a volume
+        the server cannot read at all raises :class:`WishServerError`.
+        """
+        query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels), **params}
+        return self._post_volume("/v1/classify", volume, query, classify=True)
+
+    def describe_volume(self, volume: MeshInput, *, spacing: Sequence[float] | None = None, unit: str | None = None,
+                        objects: str | None = None, min_voxels: int | None = None,
+                        drop_truncated: bool | None = None, labels: Sequence[int] | None = None, **params: Any
+                        ) -> VolumeResult:
+        """SH descriptor of every object of a label volume; same options as :meth:`classify_volume`."""
+        query = {**volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels), **params}
+        return self._post_volume("/v1/describe", volume, query, classify=False)
+
+    def _post_volume(self, path: str, volume: MeshInput, query: dict[str, Any], classify: bool) -> VolumeResult:
+        name, content = _mesh_name_and_bytes(volume)
+        doc = self._json("POST", path, body=content, content_type="application/octet-stream", query=query)
+        if not isinstance(doc, dict) or "objects" not in doc:
+            raise WishServerError(200, "bad_response", "the answer is not a VolumeResult (no `objects`): was the "
+                                  "file a label volume?", {}, doc.get("request_id") if isinstance(doc, dict) else None)
+        return _parse_volume(name, doc, classify)
+
     def models(self) -> list[dict[str, Any]]:
         """The loaded models (``GET /v1/models``), each a dict with at least ``name``."""
         doc = self._json("GET", "/v1/models")
@@ -374,3 +480,24 @@ def _parse_describe(name: str, doc: dict[str, Any]) -> DescribeResult:
         request_id=doc.get("request_id"),
         raw=doc,
     )
+
+
+def _parse_volume(name: str, doc: dict[str, Any], classify: bool) -> VolumeResult:
+    """A VolumeResult (proto) to the library's dataclasses."""
+    objects: list[VolumeObjectResult] = []
+    for entry in doc.get("objects", []):
+        label = int(entry.get("label_id", 0))
+        status = int(entry.get("status", 0))
+        item = VolumeObjectResult(label_id=label, status=status, object=entry.get("object") or {})
+        object_name = f"{name}#{label}"
+        if "result" in entry:
+            parse = _parse_classify if classify else _parse_describe
+            item.result = parse(object_name, entry["result"])
+            item.result.name = object_name
+        else:
+            err = entry.get("error") or {}
+            item.error = WishServerError(status or 422, str(err.get("code", "error")), str(err.get("message", "")),
+                                         err.get("details") or {}, doc.get("request_id"))
+        objects.append(item)
+    return VolumeResult(name=str(doc.get("volume", {}).get("filename") or name), objects=objects,
+                        volume=doc.get("volume") or {}, request_id=doc.get("request_id"), raw=doc)

@@ -1,0 +1,213 @@
+#include "server/gateway.hpp"
+
+#include <future>
+#include <memory>
+
+#include <spdlog/spdlog.h>
+
+#include "core/common/errors.hpp"
+#include "core/io/volume_io.hpp"
+
+namespace wish::server {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+}  // namespace
+
+Gateway::Gateway(const ServerConfig& config, ModelRegistry& models, WorkerPool& pool, Metrics& metrics,
+                 CancelRegistry& cancels, ComputeFunction compute)
+    : config_(config), models_(models), pool_(pool), metrics_(metrics), cancels_(cancels), compute_(std::move(compute)) {}
+
+ApiResponse Gateway::health() const { return json_response(200, {{"status", "ok"}}); }
+
+ApiResponse Gateway::ready(const std::string& request_id) const {
+  const std::size_t n = models_.size();
+  const bool accepting = pool_.accepting();
+  const bool is_draining = draining_.load();
+  if (n > 0 && accepting && !is_draining)
+    return json_response(200, {{"ready", true}, {"models", n}, {"queue_depth", pool_.queue_depth()},
+                               {"queue_capacity", pool_.capacity()}, {"workers", pool_.workers()}});
+  const std::string reason = is_draining ? "shutting down" : n == 0 ? "no model loaded" : "the job queue is full";
+  return error_response(to_api_error(WishError(ErrorCategory::Unavailable, "not_ready", "not ready: " + reason,
+                                               {{"models", static_cast<std::int64_t>(n)},
+                                                {"queue_depth", static_cast<std::int64_t>(pool_.queue_depth())},
+                                                {"shutting_down", std::string(is_draining ? "true" : "false")}})),
+                        request_id);
+}
+
+ApiResponse Gateway::metrics_text() const {
+  Gauges g;
+  g.queue_depth = pool_.queue_depth();
+  g.queue_capacity = pool_.capacity();
+  g.workers = pool_.workers();
+  g.busy_workers = pool_.busy_workers();
+  g.models_loaded = models_.size();
+  g.in_flight_requests = in_flight_.load();
+  ApiResponse out;
+  out.content_type = "text/plain; version=0.0.4; charset=utf-8";
+  out.body = metrics_.render(g);
+  return out;
+}
+
+ApiResponse Gateway::list_models() const { return json_response(200, models_.list_json()); }
+
+ApiResponse Gateway::model(const std::string& name, const std::string& request_id) const {
+  const auto model = models_.find(name);
+  if (!model)
+    return error_response(to_api_error(WishError(ErrorCategory::NotFound, "model_not_found",
+                                                 "no model named '" + name + "' is loaded", {{"model", name}})),
+                          request_id);
+  nlohmann::json info = model_info(*model);
+  info["is_default"] = name == models_.default_name();
+  return json_response(200, info);
+}
+
+ApiResponse Gateway::reload() {
+  const ReloadReport report = models_.reload();
+  metrics_.count_reload(report.ok());
+  return json_response(200, report.to_json());
+}
+
+std::shared_ptr<const LoadedModel> Gateway::resolve_model(Operation op, const ComputeParams& params) const {
+  if (op != Operation::Classify) return nullptr;
+  auto model = models_.find(params.model);
+  if (model) return model;
+  if (!params.model.empty())
+    throw WishError(ErrorCategory::NotFound, "model_not_found", "no model named '" + params.model + "' is loaded",
+                    {{"model", params.model}});
+  if (models_.size() == 0) throw WishError(ErrorCategory::Unavailable, "no_model_loaded", "no classifier model is loaded");
+  throw InvalidInputError("model_required", "several models are loaded and none is the default; name one with ?model=");
+}
+
+std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, const ComputeParams& params,
+                                               const std::shared_ptr<const LoadedModel>& model,
+                                               const std::vector<MeshPart>& parts) {
+  // One job per part; all of them are queued or none (a batch is not half-accepted). The time limit counts from
+  // the request's arrival, so time spent reading the body and waiting in the queue is part of it; a request that
+  // uploads a label volume (many objects, each described) has the volume time limit.
+  bool any_volume = false;
+  for (const auto& part : parts) any_volume = any_volume || part.volume;
+  const double limit_seconds = any_volume ? config_.volume_time_limit_seconds : config_.time_limit_seconds;
+  const auto limit = std::chrono::duration<double>(limit_seconds);
+  auto cancel = std::make_shared<std::atomic<bool>>(false);
+  std::vector<std::future<ComputeOutcome>> futures;
+  std::vector<WorkerPool::Job> jobs;
+  for (const auto& part : parts) {
+    auto job = std::make_shared<ComputeJob>();
+    job->op = request.op;
+    job->params = params;
+    job->model = model;
+    job->part = part;
+    job->request_id = request.request_id;
+    job->deadline = Deadline::after(limit - (Clock::now() - request.arrival));
+    job->deadline.attach_cancel_flag(cancel);
+    job->submitted = Clock::now();
+    auto promise = std::make_shared<std::promise<ComputeOutcome>>();
+    futures.push_back(promise->get_future());
+    // The job holds copies (the configuration outlives the pool; the compute function is copied): a job whose
+    // request gave up waiting still runs to its next deadline check after this function returned.
+    jobs.push_back([job, promise, cfg = &config_, compute = compute_] { promise->set_value(compute(*job, *cfg)); });
+  }
+  if (!pool_.try_submit(std::move(jobs))) {
+    metrics_.count_rejected("queue_full");
+    throw WishError(ErrorCategory::Unavailable, "queue_full",
+                    "the job queue is full (" + std::to_string(pool_.capacity()) + " waiting, " +
+                        std::to_string(pool_.workers()) + " workers busy); retry later",
+                    {{"queue_capacity", static_cast<std::int64_t>(pool_.capacity())},
+                     {"workers", static_cast<std::int64_t>(pool_.workers())}});
+  }
+  CancelRegistry::Registration registered(cancels_, cancel);
+  std::vector<ComputeOutcome> outcomes;
+  // The pipeline checks the deadline between steps; the extra second covers the last step before a check.
+  const auto wait_until = request.arrival + std::chrono::duration_cast<Clock::duration>(limit) + std::chrono::seconds(1);
+  for (auto& f : futures) {
+    if (f.wait_until(wait_until) == std::future_status::ready) {
+      outcomes.push_back(f.get());
+      continue;
+    }
+    cancel->store(true);  // the job stops at its next check; its result is dropped
+    ComputeOutcome late;
+    late.error = to_api_error(TimeoutError("time limit of " + std::to_string(limit_seconds) + " s exceeded",
+                                           {{"stage", std::string("compute")}, {"limit_seconds", limit_seconds}}));
+    late.status = late.error.status;
+    outcomes.push_back(std::move(late));
+  }
+  return outcomes;
+}
+
+ApiResponse Gateway::assemble(const ComputeRequest& request, const std::vector<MeshPart>& parts,
+                              std::vector<ComputeOutcome>& outcomes) {
+  std::int64_t vertices = 0, faces = 0;
+  bool counted = false;
+  for (const auto& o : outcomes) {
+    for (const auto& [stage, seconds] : o.stages) metrics_.observe_stage(stage, seconds);
+    if (o.vertices >= 0) { vertices += o.vertices; faces += o.faces; counted = true; }
+    if (o.status >= 500 && o.status != 503 && o.status != 504)
+      spdlog::error("request {}: {} {}", request.request_id, o.error.code, o.error.message);
+  }
+  ApiResponse out;
+  if (!request.multipart) {
+    auto& o = outcomes.front();
+    if (o.status != 200) {
+      out = error_response(o.error, request.request_id);
+    } else {
+      o.result["request_id"] = request.request_id;
+      out = json_response(200, o.result);
+    }
+  } else {
+    nlohmann::json results = nlohmann::json::array();
+    std::string first_error;
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+      auto& o = outcomes[i];
+      nlohmann::json item{{"part", parts[i].field}, {"status", o.status}};
+      if (!parts[i].filename.empty()) item["filename"] = parts[i].filename;
+      if (o.status == 200) {
+        o.result["request_id"] = request.request_id;
+        item["result"] = std::move(o.result);
+      } else {
+        item["error"] = error_object(o.error);
+        if (first_error.empty()) first_error = o.error.code;
+      }
+      results.push_back(std::move(item));
+    }
+    out = json_response(200, {{"request_id", request.request_id}, {"results", std::move(results)}});
+    out.error_code = first_error;
+  }
+  if (counted) { out.vertices = vertices; out.faces = faces; }
+  return out;
+}
+
+ApiResponse Gateway::compute(ComputeRequest request) {
+  ++in_flight_;
+  struct Leave { std::atomic<int>& n; ~Leave() { --n; } } leave{in_flight_};
+  int part_count = 0;
+  try {
+    std::vector<MeshPart> parts;
+    if (request.multipart) parts = split_multipart(std::move(request.form), request.params, config_);
+    else parts.push_back(raw_body_part(std::move(request.body), request.content_type));
+    part_count = static_cast<int>(parts.size());
+    for (auto& part : parts) part.volume = detect_volume_format(*part.bytes) != VolumeFormat::Unknown;
+
+    const ComputeParams params = parse_compute_params(request.op, request.params, config_);
+    const auto model = resolve_model(request.op, params);
+    if (model) check_descriptor_settings(params, *model);
+    if (draining_.load()) {
+      metrics_.count_rejected("shutting_down");
+      throw WishError(ErrorCategory::Unavailable, "shutting_down", "the server is shutting down");
+    }
+    auto outcomes = run_parts(request, params, model, parts);
+    ApiResponse out = assemble(request, parts, outcomes);
+    out.parts = part_count;
+    return out;
+  } catch (...) {
+    const ApiError error = to_api_error(std::current_exception());
+    if (error.status >= 500 && error.status != 503)
+      spdlog::error("request {}: {} {}", request.request_id, error.code, error.message);
+    if (error.status == 504) metrics_.count_rejected("timeout");
+    ApiResponse out = error_response(error, request.request_id);
+    out.parts = part_count;
+    return out;
+  }
+}
+
+}  // namespace wish::server

@@ -1,0 +1,17 @@
+#pragma once
+// The JSON of a label volume upload (VolumeResult in proto/openapi.json): what was read and how objects were found
+// (VolumeSummary), and one entry per kept object, in label-id order (VolumeObjectEntry): the object (voxel count,
+// centroid in physical units, bounding box in voxel indices, truncated, genus, repairs, surface figures, timings)
+// and either the object's DescribeResult or its error. Includes Eigen: never include from an http_*.cpp file.
+
+#include <nlohmann/json.hpp>
+
+#include "core/pipeline/volume_pipeline.hpp"
+
+namespace wish::server {
+
+nlohmann::json volume_summary_json(const VolumeSummary& summary);
+// The "object" block of an entry: the voxel object and the surface made of it.
+nlohmann::json volume_object_json(const volume::VolumeObject& object, const volume::ObjectSurface& surface);
+
+}  // namespace wish::server

@@ -1,0 +1,59 @@
+"""Small synthetic label volumes for the service and client tests, written as NIfTI-1 by hand (stdlib only).
+
+The default scene (ellipsoid_scene) in a 56 x 36 x 28 grid, x fastest:
+  label 1: ellipsoid, centre (12, 14, 12), semi-axes (7, 5, 4) voxels
+  label 2: ellipsoid, centre (30, 18, 14), semi-axes (8, 5, 5)
+  label 3: a small ball of radius 1.5 (under 20 voxels: dropped by min_voxels=20)
+  label 4: a 4 x 4 x 4 box in the corner at the origin (touches the border: truncated)
+  label 5: a torus, centre (46, 18, 14), R = 6, r = 2.5, axis z (genus 1: refused with genus_nonzero)
+"""
+import gzip
+import struct
+
+DIMS = (56, 36, 28)
+
+
+def ellipsoid_scene(dims=DIMS):
+    nx, ny, nz = dims
+    labels = bytearray(nx * ny * nz)
+    counts = {}
+
+    def put(x, y, z, v):
+        i = x + nx * (y + ny * z)
+        if labels[i] == 0:
+            labels[i] = v
+            counts[v] = counts.get(v, 0) + 1
+
+    for z in range(nz):
+        for y in range(ny):
+            for x in range(nx):
+                if ((x - 12) / 7.0) ** 2 + ((y - 14) / 5.0) ** 2 + ((z - 12) / 4.0) ** 2 <= 1:
+                    put(x, y, z, 1)
+                elif ((x - 30) / 8.0) ** 2 + ((y - 18) / 5.0) ** 2 + ((z - 14) / 5.0) ** 2 <= 1:
+                    put(x, y, z, 2)
+                elif (x - 22) ** 2 + (y - 4) ** 2 + (z - 22) ** 2 <= 1.5 ** 2:
+                    put(x, y, z, 3)
+                elif x < 4 and y < 4 and z < 4:
+                    put(x, y, z, 4)
+                else:
+                    rho = ((x - 46) ** 2 + (y - 18) ** 2) ** 0.5
+                    if (rho - 6) ** 2 + (z - 14) ** 2 <= 2.5 ** 2:
+                        put(x, y, z, 5)
+    return bytes(labels), counts
+
+
+def nifti_bytes(labels, dims=DIMS, spacing=(1.0, 1.0, 1.0), units=2, gz=False):
+    """NIfTI-1 single file, uint8 voxels (datatype 2), little endian; units: xyzt_units (2 mm, 3 um)."""
+    nx, ny, nz = dims
+    assert len(labels) == nx * ny * nz
+    header = bytearray(348)
+    struct.pack_into("<i", header, 0, 348)
+    struct.pack_into("<8h", header, 40, 3, nx, ny, nz, 1, 1, 1, 1)
+    struct.pack_into("<hh", header, 70, 2, 8)  # datatype uint8, bitpix 8
+    struct.pack_into("<8f", header, 76, 1.0, spacing[0], spacing[1], spacing[2], 1.0, 1.0, 1.0, 1.0)
+    struct.pack_into("<f", header, 108, 352.0)  # vox_offset
+    struct.pack_into("<ff", header, 112, 1.0, 0.0)  # scl_slope, scl_inter
+    header[123] = units
+    header[344:348] = b"n+1\x00"
+    data = bytes(header) + b"\x00\x00\x00\x00" + bytes(labels)
+    return gzip.compress(data) if gz else data
