@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/common/cpu_budget.hpp"
 #include "core/common/errors.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/mass_matrix.hpp"
@@ -141,7 +142,7 @@ void check_preconditions(const Mesh& mesh) {
 }
 
 MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const SphericalMapOptions& options,
-                       const Eigen::VectorXd& input_mass, const Deadline& deadline, const Deadline& budget,
+                       const Eigen::VectorXd& input_mass, const Deadline& deadline, const CpuBudget& budget,
                        const Eigen::MatrixX3d* start, Eigen::MatrixX3d& flowed, Eigen::MatrixX3d& sphere) {
   const Clock::time_point t0 = Clock::now();
   MapAttempt attempt;
@@ -285,9 +286,10 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   // Soft budget of the flows (scaled with the mesh size); the linear attempts always run after it.
   const double budget_seconds =
       options.flow_budget_seconds * std::max(1.0, static_cast<double>(mesh.vertex_count()) / 10000.0);
-  const Deadline budget = options.flow_budget_seconds > 0
-                              ? Deadline::after(std::chrono::duration<double>(budget_seconds))
-                              : Deadline{};
+  // CPU time of this thread, not wall-clock: the method a mesh ends on must not depend on the machine's load.
+  const CpuBudget budget = options.flow_budget_seconds > 0
+                               ? CpuBudget::for_this_thread(std::chrono::duration<double>(budget_seconds))
+                               : CpuBudget{};
 
   SphericalMapResult result;
   std::vector<Eigen::MatrixX3d> flowed(plans.size());

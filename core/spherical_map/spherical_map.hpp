@@ -139,9 +139,11 @@ struct SphericalMapOptions {
   // Added: the operator behind every Laplacian and mass of the flows, the Poisson step, cMCF and the linear map
   // (intrinsic_laplacian.hpp: mollified lengths + intrinsic Delaunay by default).
   geometry::IntrinsicOptions laplacian;
-  // Added: soft time budget of the FLOW attempts, in seconds per 10,000 vertices (at least this many seconds).
+  // Added: soft time budget of the FLOW attempts, in CPU seconds of the calling thread (cpu_budget.hpp: load on
+  // the machine does not change which method a mesh ends on) per 10,000 vertices (at least this many seconds).
   // When it has passed, the running flow stops (FlowStop::TimeBudget, its map still verified) and only the cheap
-  // linear attempts of the chain run; 0 = no budget. The request deadline (Deadline) is separate and hard.
+  // linear attempts of the chain run; 0 = no budget. The request deadline (Deadline) is separate, hard and
+  // wall-clock.
   double flow_budget_seconds = 4.0;
   bool operator==(const SphericalMapOptions&) const = default;
 };
