@@ -14,6 +14,7 @@
 #include "core/geometry/mass_matrix.hpp"
 #include "core/geometry/roundness.hpp"
 #include "core/geometry/vertex_pattern.hpp"
+#include "core/spherical_map/chart_untangle.hpp"
 #include "core/spherical_map/cmcf.hpp"
 #include "core/spherical_map/linear_map.hpp"
 #include "core/spherical_map/map_verification.hpp"
@@ -184,7 +185,10 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
   if (sphere.allFinite()) {
     mobius = spherical::mobius_balance(sphere, input_mass);
     if (options.untangle) {
-      repaired = spherical::untangle_sphere_map(sphere, mesh.faces, options.verification).moved_vertices;
+      // Foldover-free energy in a chart per cluster first (keeps the map as conformal as it can); the uniform
+      // Tutte relaxation for what it leaves.
+      repaired = spherical::untangle_in_charts(sphere, mesh.vertices, mesh.faces, options.verification).moved_vertices;
+      repaired += spherical::untangle_sphere_map(sphere, mesh.faces, options.verification).moved_vertices;
       if (repaired > 0) mobius = spherical::mobius_balance(sphere, input_mass);  // the repair moved the centroid a bit
     }
   }
@@ -208,6 +212,10 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
                       std::to_string(attempt.quality.degree) + ", K p99 " + std::to_string(attempt.quality.conformal_p99) +
                       ", roundness " + std::to_string(flow.roundness) + ")";
     if (!flow.message.empty()) attempt.message += "; flow: " + flow.message;
+  } else if (flow.status == MapStatus::NotConverged && flow.stop == FlowStop::TimeBudget) {
+    // The flow budget is the chain's "stop here": a bijective map of the flow so far is the answer (its distortion
+    // is in the verdict), as for a stalled flow; running the rest of the chain would only exceed the time bound.
+    attempt.message = flow.message + "; its map verified";
   } else if (flow.status == MapStatus::NotConverged) {
     attempt.status = MapStatus::NotConverged;
     attempt.failed_check = flow.failed_check;

@@ -141,10 +141,12 @@ struct SphericalMapOptions {
   geometry::IntrinsicOptions laplacian;
   // Added: soft time budget of the FLOW attempts, in CPU seconds of the calling thread (cpu_budget.hpp: load on
   // the machine does not change which method a mesh ends on) per 10,000 vertices (at least this many seconds).
-  // When it has passed, the running flow stops (FlowStop::TimeBudget, its map still verified) and only the cheap
-  // linear attempts of the chain run; 0 = no budget. The request deadline (Deadline) is separate, hard and
-  // wall-clock.
-  double flow_budget_seconds = 4.0;
+  // When it has passed, the running flow stops (FlowStop::TimeBudget) and its map is verified: a bijective one is
+  // the answer (Ok, distortion in the verdict); otherwise only the cheap linear attempts of the chain run. 0 = no
+  // budget. The request deadline (Deadline) is separate, hard and wall-clock. 2 s: the Willmore flow of a 10K-vertex
+  // UroCell mesh takes 1.6–3.2 CPU s to plateau; with one step past the budget, the untangling and the linear
+  // attempts the whole chain stays within the 3 s per 10K vertices of issue 11 (measured: bench/map_collection_bench).
+  double flow_budget_seconds = 2.0;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 
