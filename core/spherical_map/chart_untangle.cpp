@@ -209,7 +209,7 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
   for (Eigen::Index f = 0; f < nf; ++f)
     if (bad_face(sphere, faces, f, min_height)) bad.push_back(f);
   result.bad_faces_before = result.bad_faces_after = static_cast<long>(bad.size());
-  if (bad.empty()) return result;
+  if (bad.empty() || static_cast<double>(bad.size()) > options.max_bad_fraction * static_cast<double>(nf)) return result;
 
   std::vector<std::vector<int>> vertex_faces(static_cast<size_t>(nv)), neighbours(static_cast<size_t>(nv));
   for (Eigen::Index f = 0; f < nf; ++f)

@@ -326,12 +326,19 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     MapAttempt attempt = run_attempt(mesh, plan, options, input_mass, deadline, budget, start, flowed[k], sphere);
     const bool first = result.attempts.empty();
     const bool ok = attempt.status == MapStatus::Ok;
-    if (first || ok || less_bad(attempt, result.attempts[static_cast<size_t>(result.chosen_attempt)])) {
+    // An Ok map that needed the local repair and is still distorted is provisional: the rest of the chain (within
+    // the budget) may find a map that is bijective as computed and less distorted (measured: the staircase sphere
+    // of real_mesh_test, Willmore stalled + repaired K p99 8.3, cMCF 1.1). The least distorted Ok map is returned.
+    const bool provisional = ok && attempt.quality.repaired_vertices > 0 && attempt.quality.verdict == MapVerdict::Distorted;
+    const MapAttempt* chosen = first ? nullptr : &result.attempts[static_cast<size_t>(result.chosen_attempt)];
+    const bool chosen_ok = chosen && chosen->status == MapStatus::Ok;
+    if (first || (ok && (!chosen_ok || attempt.quality.conformal_p99 < chosen->quality.conformal_p99)) ||
+        (!chosen_ok && less_bad(attempt, *chosen))) {
       result.chosen_attempt = static_cast<int>(result.attempts.size());
       best_sphere = std::move(sphere);
     }
     result.attempts.push_back(std::move(attempt));
-    if (ok) break;
+    if (ok && !provisional) break;
   }
   const MapAttempt& chosen = result.attempts[static_cast<size_t>(result.chosen_attempt)];
   result.sphere = std::move(best_sphere);

@@ -6,8 +6,10 @@
 // Every map is projected to the sphere, Möbius-normalised (area-centre balancing with input vertex areas as
 // weights) and verified; a map that fails verification is never reported as Ok. With `fallback`, a failed attempt
 // is followed by the chain of spherical-map.md §7 (more steps → filtered flow → cMCF → linear method), stopping at
-// the first Ok attempt; every attempt is recorded, and the returned map is the first Ok attempt or, when none is
-// Ok, the least-bad one (see SphericalMapResult).
+// the first Ok attempt that is final (a repaired, still distorted Ok map is provisional: the chain goes on within
+// its budget); every attempt is recorded, and the returned map is the least distorted Ok attempt or, when none is
+// Ok, the least-bad one (see SphericalMapResult). Local repair: untangle_in_charts (chart_untangle.hpp), then the
+// Tutte relaxation (untangle.hpp).
 //
 // Preconditions: the mesh passed prepare_for_mapping() (closed, manifold, one component, genus 0, outward).
 
@@ -233,7 +235,8 @@ struct SphericalMapResult {
   MapVerdict verdict = MapVerdict::Failed;  // Added: quality.verdict of the returned map
   MapQuality quality;
   MapMethod method_used = MapMethod::Willmore;
-  // In order. `sphere` is the map of attempts[chosen_attempt]: the first Ok attempt (the chain stops there), or,
+  // In order. `sphere` is the map of attempts[chosen_attempt]: the Ok attempt of lowest K p99 (the chain stops at
+  // the first Ok attempt that is not a repaired, distorted one), or,
   // when none is Ok, the least-bad one — a verified map of a not-converged flow first (lowest K p99), else the one
   // with the fewest non-finite, flipped and degenerate faces — with that attempt's (not Ok) status.
   std::vector<MapAttempt> attempts;
