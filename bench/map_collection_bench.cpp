@@ -1,17 +1,20 @@
 // Map acceptance and time over mesh collections (issue 11): one row per directory and one for all of them.
-//   map_collection_bench DIR [DIR...]      (recursive; .off .obj .ply .stl)
+//   map_collection_bench DIR|LIST.txt|MESH [...]   (DIR: recursive, .off .obj .ply .stl; LIST.txt: one path a line)
 // Per mesh: read → prepare_for_mapping → compute_spherical_map with the default options. Columns: meshes found,
 // accepted by validation (closed genus-0 manifold), 0-flip rate and Ok rate of the accepted, map time median / p95
-// / max (seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1), the method each map ended on, the
+// / max (wall-clock seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1) and the same in CPU
+// seconds of the mapping thread (what the flow budget counts; load-independent), the method each map ended on, the
 // verdicts, and the K p99 distribution (median / p90 / max over bijective maps). Refusal codes are counted below.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "core/common/cpu_budget.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/spherical_map/spherical_map.hpp"
@@ -22,7 +25,7 @@ namespace {
 struct Row {
   std::string name;
   int found = 0, accepted = 0, zero_flips = 0, ok = 0;
-  std::vector<double> seconds, k_p99;
+  std::vector<double> seconds, cpu_seconds, k_p99;
   std::map<std::string, int> methods, verdicts, refusals;
 };
 
@@ -55,11 +58,14 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
     return;
   }
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = wish::CpuBudget::thread_cpu_seconds();
   const wish::SphericalMapResult r = wish::compute_spherical_map(prepared.mesh);
+  const double cpu = wish::CpuBudget::thread_cpu_seconds() - cpu0;
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (Row* x : {&row, &all}) {
     ++x->accepted;
     x->seconds.push_back(s);
+    x->cpu_seconds.push_back(cpu);
     const bool bijective = r.quality.flipped_faces == 0 && r.quality.degenerate_faces == 0 && r.quality.degree == 1 &&
                            r.quality.non_finite_vertices == 0;
     x->zero_flips += r.quality.flipped_faces == 0;
@@ -68,16 +74,26 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
     ++x->methods[wish::to_string(r.method_used)];
     ++x->verdicts[wish::to_string(r.verdict)];
   }
-  std::fprintf(stderr, "%-60s V=%7ld %-8s %-9s flips %ld K p99 %.2f %.2fs\n", path.string().c_str(),
-               static_cast<long>(prepared.mesh.vertex_count()), wish::to_string(r.method_used),
-               wish::to_string(r.verdict), r.quality.flipped_faces, r.quality.conformal_p99, s);
+  // The chain as run: method/stop:flips+degenerate faces/seconds per attempt.
+  std::string chain;
+  for (const wish::MapAttempt& a : r.attempts)
+    chain += std::string(chain.empty() ? "" : " > ") + wish::to_string(a.method) + "/" + wish::to_string(a.stop) + ":" +
+             std::to_string(a.quality.flipped_faces) + "+" + std::to_string(a.quality.degenerate_faces) + "/" +
+             std::to_string(a.seconds).substr(0, 4) + "s";
+  std::fprintf(stderr, "%-60s V=%7ld %-8s %-9s flips %ld degen %ld K p99 %.2f %.2fs cpu %.2fs  [%s]\n",
+               path.string().c_str(), static_cast<long>(prepared.mesh.vertex_count()), wish::to_string(r.method_used),
+               wish::to_string(r.verdict), r.quality.flipped_faces, r.quality.degenerate_faces,
+               r.quality.conformal_p99, s, cpu, chain.c_str());
 }
 
 void print(const Row& r) {
   const double n = std::max(1, r.accepted);
-  std::printf("| %-28s | %5d | %5d | %6.1f %% | %6.1f %% | %5.2f / %5.2f / %6.2f | %-30s | %-36s | %6.2f / %6.2f / %8.2f |\n",
+  const auto max_of = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+  std::printf("| %-28s | %5d | %5d | %6.1f %% | %6.1f %% | %5.2f / %5.2f / %6.2f | %5.2f / %5.2f / %6.2f | %-30s | %-36s "
+              "| %6.2f / %6.2f / %8.2f |\n",
               r.name.c_str(), r.found, r.accepted, 100.0 * r.zero_flips / n, 100.0 * r.ok / n, quantile(r.seconds, 0.5),
-              quantile(r.seconds, 0.95), r.seconds.empty() ? 0.0 : *std::max_element(r.seconds.begin(), r.seconds.end()),
+              quantile(r.seconds, 0.95), max_of(r.seconds), quantile(r.cpu_seconds, 0.5), quantile(r.cpu_seconds, 0.95),
+              max_of(r.cpu_seconds),
               counts(r.methods).c_str(), counts(r.verdicts).c_str(), quantile(r.k_p99, 0.5), quantile(r.k_p99, 0.9),
               r.k_p99.empty() ? 0.0 : *std::max_element(r.k_p99.begin(), r.k_p99.end()));
 }
@@ -97,7 +113,15 @@ int main(int argc, char** argv) {
     row.name = std::filesystem::path(argv[i]).filename().string();
     if (row.name.empty()) row.name = argv[i];
     std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(argv[i])) {
+    if (std::filesystem::path(argv[i]).extension() == ".txt") {  // a list of mesh paths, one a line
+      std::ifstream list(argv[i]);
+      for (std::string line; std::getline(list, line);)
+        if (!line.empty()) files.push_back(line);
+      row.name = std::filesystem::path(argv[i]).stem().string();
+    } else if (std::filesystem::is_regular_file(argv[i])) {
+      files.push_back(argv[i]);  // one mesh: its own row
+    } else
+      for (const auto& e : std::filesystem::recursive_directory_iterator(argv[i])) {
       const std::string ext = e.path().extension().string();
       if (e.is_regular_file() && (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".stl")) files.push_back(e.path());
     }
@@ -105,8 +129,8 @@ int main(int argc, char** argv) {
     for (const auto& f : files) map_one(f, row, all);
     rows.push_back(std::move(row));
   }
-  std::printf("| collection | found | accepted | 0-flip | ok | map s median / p95 / max | methods | verdicts | K p99 median / p90 / max |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| collection | found | accepted | 0-flip | ok | map s median / p95 / max | map CPU s median / p95 / max | methods | verdicts | K p99 median / p90 / max |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) print(r);
   if (rows.size() > 1) print(all);
   std::printf("\nrefused by validation or reading: %s\n", counts(all.refusals).c_str());

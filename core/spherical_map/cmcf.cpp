@@ -29,7 +29,7 @@ double robust_willmore_energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i&
 }  // namespace
 
 FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverKind solver_kind,
-                     const geometry::IntrinsicOptions& laplacian, const Deadline& deadline, const Deadline& budget) {
+                     const geometry::IntrinsicOptions& laplacian, const Deadline& deadline, const CpuBudget& budget) {
   FlowResult result;
   const Eigen::MatrixX3i& faces = mesh.faces;
   linalg::CholeskyOptions copt;

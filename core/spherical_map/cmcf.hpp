@@ -7,6 +7,7 @@
 // roundness_stall per step (stalled, Ok with "stalled" in the message: judged by verification), or at max_steps
 // (NotConverged, failed_check "roundness", hit_step_cap). One V×V factorisation per step; symbolic analysis once.
 
+#include "core/common/cpu_budget.hpp"
 #include "core/common/deadline.hpp"
 #include "core/mesh/mesh.hpp"
 #include "core/spherical_map/flow_result.hpp"
@@ -17,6 +18,6 @@ namespace wish::spherical {
 // `laplacian`: the operator behind L₀ and M_t (intrinsic_laplacian.hpp).
 FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverKind solver,
                      const geometry::IntrinsicOptions& laplacian = {}, const Deadline& deadline = {},
-                     const Deadline& budget = {});  // budget: soft limit, stops with FlowStop::TimeBudget
+                     const CpuBudget& budget = {});  // budget: soft CPU-time limit (cpu_budget.hpp), stops with FlowStop::TimeBudget
 
 }  // namespace wish::spherical

@@ -6,8 +6,10 @@
 // Every map is projected to the sphere, Möbius-normalised (area-centre balancing with input vertex areas as
 // weights) and verified; a map that fails verification is never reported as Ok. With `fallback`, a failed attempt
 // is followed by the chain of spherical-map.md §7 (more steps → filtered flow → cMCF → linear method), stopping at
-// the first Ok attempt; every attempt is recorded, and the returned map is the first Ok attempt or, when none is
-// Ok, the least-bad one (see SphericalMapResult).
+// the first Ok attempt that is final (a repaired, still distorted Ok map is provisional: the chain goes on within
+// its budget); every attempt is recorded, and the returned map is the least distorted Ok attempt or, when none is
+// Ok, the least-bad one (see SphericalMapResult). Local repair: untangle_in_charts (chart_untangle.hpp), then the
+// Tutte relaxation (untangle.hpp).
 //
 // Preconditions: the mesh passed prepare_for_mapping() (closed, manifold, one component, genus 0, outward).
 
@@ -139,10 +141,14 @@ struct SphericalMapOptions {
   // Added: the operator behind every Laplacian and mass of the flows, the Poisson step, cMCF and the linear map
   // (intrinsic_laplacian.hpp: mollified lengths + intrinsic Delaunay by default).
   geometry::IntrinsicOptions laplacian;
-  // Added: soft time budget of the FLOW attempts, in seconds per 10,000 vertices (at least this many seconds).
-  // When it has passed, the running flow stops (FlowStop::TimeBudget, its map still verified) and only the cheap
-  // linear attempts of the chain run; 0 = no budget. The request deadline (Deadline) is separate and hard.
-  double flow_budget_seconds = 4.0;
+  // Added: soft time budget of the FLOW attempts, in CPU seconds of the calling thread (cpu_budget.hpp: load on
+  // the machine does not change which method a mesh ends on) per 10,000 vertices (at least this many seconds).
+  // When it has passed, the running flow stops (FlowStop::TimeBudget) and its map is verified: a bijective one is
+  // the answer (Ok, distortion in the verdict); otherwise only the cheap linear attempts of the chain run. 0 = no
+  // budget. The request deadline (Deadline) is separate, hard and wall-clock. 2 s: the Willmore flow of a 10K-vertex
+  // UroCell mesh takes 1.6–3.2 CPU s to plateau; with one step past the budget, the untangling and the linear
+  // attempts the whole chain stays within the 3 s per 10K vertices of issue 11 (measured: bench/map_collection_bench).
+  double flow_budget_seconds = 2.0;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 
@@ -229,7 +235,8 @@ struct SphericalMapResult {
   MapVerdict verdict = MapVerdict::Failed;  // Added: quality.verdict of the returned map
   MapQuality quality;
   MapMethod method_used = MapMethod::Willmore;
-  // In order. `sphere` is the map of attempts[chosen_attempt]: the first Ok attempt (the chain stops there), or,
+  // In order. `sphere` is the map of attempts[chosen_attempt]: the Ok attempt of lowest K p99 (the chain stops at
+  // the first Ok attempt that is not a repaired, distorted one), or,
   // when none is Ok, the least-bad one — a verified map of a not-converged flow first (lowest K p99), else the one
   // with the fewest non-finite, flipped and degenerate faces — with that attempt's (not Ok) status.
   std::vector<MapAttempt> attempts;

@@ -144,7 +144,7 @@ void normalise_area_and_centre(Eigen::MatrixX3d& x, const Eigen::MatrixX3i& face
 
 FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver_kind,
                          const geometry::IntrinsicOptions& laplacian_options, const Deadline& deadline,
-                         const Eigen::MatrixX3d* start, const Deadline& budget) {
+                         const Eigen::MatrixX3d* start, const CpuBudget& budget) {
   FlowResult result;
   // The spin transformation transforms the edges OF THE IMMERSION (CPS11): the Poisson step must integrate the
   // transformed edges of the mesh's own triangles, whose cotans make ω consistent with 𝔼. An intrinsic Delaunay

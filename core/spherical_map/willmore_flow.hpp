@@ -15,6 +15,7 @@
 // "roundness", hit_step_cap).
 // Symbolic factorisations (Dirac, pinned L, filter) are done once per call; numeric ones once per step.
 
+#include "core/common/cpu_budget.hpp"
 #include "core/common/deadline.hpp"
 #include "core/mesh/mesh.hpp"
 #include "core/spherical_map/flow_result.hpp"
@@ -24,9 +25,9 @@ namespace wish::spherical {
 
 // `start` (optional): flowed positions to continue from (input connectivity), e.g. the surface of an earlier
 // attempt that ran out of steps ("more steps" in the fallback chain) — saves re-running those steps.
-// `budget`: soft limit (the flow stops with FlowStop::TimeBudget, keeping its surface); `laplacian`: the operator behind L, M and the Poisson step (intrinsic_laplacian.hpp).
+// `budget`: soft limit of this thread's CPU time (cpu_budget.hpp; the flow stops with FlowStop::TimeBudget, keeping its surface); `laplacian`: the operator behind L, M and the Poisson step (intrinsic_laplacian.hpp).
 FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver,
                          const geometry::IntrinsicOptions& laplacian = {}, const Deadline& deadline = {},
-                         const Eigen::MatrixX3d* start = nullptr, const Deadline& budget = {});
+                         const Eigen::MatrixX3d* start = nullptr, const CpuBudget& budget = {});
 
 }  // namespace wish::spherical

@@ -25,10 +25,11 @@ void expect_bijective(const SphericalMapResult& r, const char* what) {
   EXPECT_NE(r.verdict, MapVerdict::Failed);
   EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts.back().message;
   std::printf("[real] %-28s V=%5ld method %-8s attempts %zu K mean/p99 %.3f/%.3f verdict %s eps %.1e flips %ld "
-              "neg.weights %ld %.2fs\n",
+              "neg.weights %ld repaired %ld stop %s %.2fs\n",
               what, static_cast<long>(r.sphere.rows()), to_string(r.method_used), r.attempts.size(),
               r.quality.conformal_mean, r.quality.conformal_p99, to_string(r.verdict), r.operator_stats.epsilon,
-              r.operator_stats.flips, r.operator_stats.negative_weights_before, r.seconds);
+              r.operator_stats.flips, r.operator_stats.negative_weights_before, r.quality.repaired_vertices,
+              to_string(r.attempts[static_cast<size_t>(r.chosen_attempt)].stop), r.seconds);
 }
 
 // Splits vertex v of a closed mesh along two of its edges (v, a) and (v, b) into v and a new twin at the SAME

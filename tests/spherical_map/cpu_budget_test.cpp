@@ -1,0 +1,62 @@
+// CpuBudget (core/common/cpu_budget.hpp): the soft flow budget of the map chain counts the calling thread's CPU
+// time, so sleeping (or being descheduled on a loaded machine) does not spend it and computing does.
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "core/common/cpu_budget.hpp"
+
+namespace wish {
+namespace {
+
+TEST(CpuBudget, DefaultIsUnlimited) {
+  const CpuBudget b;
+  EXPECT_FALSE(b.limited());
+  EXPECT_FALSE(b.expired());
+  EXPECT_TRUE(std::isinf(b.remaining_seconds()));
+}
+
+TEST(CpuBudget, SleepingDoesNotSpendIt) {
+  const CpuBudget b = CpuBudget::for_this_thread(std::chrono::milliseconds(100));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // The wall clock has moved on past the budget ...
+  ASSERT_GE(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(200));
+  // ... but the thread used (almost) no CPU while asleep.
+  EXPECT_FALSE(b.expired());
+  EXPECT_GT(b.remaining_seconds(), 0.05);
+}
+
+TEST(CpuBudget, ComputingSpendsIt) {
+  const CpuBudget b = CpuBudget::for_this_thread(std::chrono::milliseconds(50));
+  const double start = CpuBudget::thread_cpu_seconds();
+  // Work until the budget reports expiry; bounded (10 s of CPU would mean the clock does not advance).
+  volatile double sink = 0;
+  long rounds = 0;
+  while (!b.expired() && CpuBudget::thread_cpu_seconds() - start < 10.0) {
+    for (int i = 0; i < 10000; ++i) sink = sink + std::sqrt(static_cast<double>(i + rounds));
+    ++rounds;
+  }
+  const double used = CpuBudget::thread_cpu_seconds() - start;
+  EXPECT_TRUE(b.expired());
+  EXPECT_GE(used, 0.05);
+  EXPECT_LT(used, 1.0);  // expiry is reported promptly once the budget is spent
+  EXPECT_LE(b.remaining_seconds(), 0.0);
+}
+
+TEST(CpuBudget, AnotherThreadsWorkIsNotCounted) {
+  const CpuBudget b = CpuBudget::for_this_thread(std::chrono::milliseconds(100));
+  std::thread worker([] {
+    const double start = CpuBudget::thread_cpu_seconds();
+    volatile double sink = 0;
+    while (CpuBudget::thread_cpu_seconds() - start < 0.3)
+      for (int i = 0; i < 10000; ++i) sink = sink + std::sqrt(static_cast<double>(i));
+  });
+  worker.join();
+  EXPECT_FALSE(b.expired());
+}
+
+}  // namespace
+}  // namespace wish
