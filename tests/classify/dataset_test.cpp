@@ -93,18 +93,18 @@ TEST(Dataset, ManifestErrorsNameTheLine) {
     return {"", ""};
   };
   auto [c1, m1] = code_and_message("a.obj,x\nonly-a-path\n");
-  EXPECT_EQ(c1, "manifest");
+  EXPECT_EQ(c1, "invalid_manifest");
   EXPECT_NE(m1.find("line 2"), std::string::npos) << m1;
   auto [c2, m2] = code_and_message("v.nii,x,-4\n");
-  EXPECT_EQ(c2, "manifest");
+  EXPECT_EQ(c2, "invalid_manifest");
   EXPECT_NE(m2.find("label_id '-4'"), std::string::npos) << m2;
   auto [c3, m3] = code_and_message("v.nii,x,0\n");  // 0 is the background of a label image
-  EXPECT_EQ(c3, "manifest");
+  EXPECT_EQ(c3, "invalid_manifest");
   auto [c4, m4] = code_and_message("v.nii,x,5\nv.nii,y,5\n");
-  EXPECT_EQ(c4, "manifest");
+  EXPECT_EQ(c4, "invalid_manifest");
   EXPECT_NE(m4.find("listed twice"), std::string::npos) << m4;
   auto [c5, m5] = code_and_message("a.obj,\n");
-  EXPECT_EQ(c5, "manifest");
+  EXPECT_EQ(c5, "invalid_manifest");
 }
 
 // A describer that plays a mesh (one sample), a failing mesh (throws), a volume with a refused object and a

@@ -225,10 +225,19 @@ TEST(SphericalMap, ContractErrors) {
   EXPECT_THROW(map_method_from_name("lscm"), InvalidInputError);
   Mesh open = make_icosphere(2);
   open.faces.conservativeResize(open.face_count() - 1, 3);
-  EXPECT_THROW(compute_spherical_map(open), InvalidInputError);
+  // A mesh that validation would refuse is refused by the map too, with validation's code and category (422).
+  auto refusal = [](const Mesh& mesh) -> std::pair<std::string, ErrorCategory> {
+    try {
+      (void)compute_spherical_map(mesh);
+    } catch (const WishError& e) {
+      return {e.code(), e.category()};
+    }
+    return {"", ErrorCategory::Internal};
+  };
+  EXPECT_EQ(refusal(open).second, ErrorCategory::Unmappable);  // an open mesh fails the Euler characteristic first
   Mesh inward = make_icosphere(2);
   inward.faces.col(1).swap(inward.faces.col(2));
-  EXPECT_THROW(compute_spherical_map(inward), InvalidInputError);
+  EXPECT_EQ(refusal(inward).second, ErrorCategory::Unmappable);
   const Mesh sphere = testing::make_ellipsoid(1, 0.7, 0.5, 3);
   EXPECT_THROW(compute_spherical_map(sphere, {}, Deadline::after(std::chrono::seconds(0))), TimeoutError);
 }
