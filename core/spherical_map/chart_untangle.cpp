@@ -10,18 +10,10 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/Geometry>
 
+#include "core/spherical_map/map_verification.hpp"
+
 namespace wish::spherical {
 namespace {
-
-// The sphere tests of measure_map(): flipped (det(a, b, c) ≤ 0) or numerically degenerate (height below the
-// threshold).
-bool bad_face(const Eigen::MatrixX3d& u, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height) {
-  const Eigen::Vector3d a = u.row(faces(f, 0)), b = u.row(faces(f, 1)), c = u.row(faces(f, 2));
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  if (!(n.dot(a + b + c) > 0)) return true;
-  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-  return !(n.norm() >= min_height * longest);
-}
 
 // χ(D, ε) = (D + √(ε² + D²)) / 2, in the cancellation-free form for D < 0 (ε may be tiny there).
 double chi(double d, double eps) {
@@ -207,7 +199,7 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
   const double min_height = thresholds.degenerate_height;
   std::vector<Eigen::Index> bad;
   for (Eigen::Index f = 0; f < nf; ++f)
-    if (bad_face(sphere, faces, f, min_height)) bad.push_back(f);
+    if (is_bad_sphere_face(sphere, faces, f, min_height)) bad.push_back(f);
   result.bad_faces_before = result.bad_faces_after = static_cast<long>(bad.size());
   if (bad.empty() || static_cast<double>(bad.size()) > options.max_bad_fraction * static_cast<double>(nf)) return result;
 
@@ -345,7 +337,7 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
       };
       auto cluster_good = [&] {
         for (int f : touched)
-          if (bad_face(sphere, faces, f, min_height)) return false;
+          if (is_bad_sphere_face(sphere, faces, f, min_height)) return false;
         return true;
       };
       double min_det = solver.min_det();
@@ -375,7 +367,7 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
   }
   // Whole-map recount (a fixed cluster cannot create bad faces elsewhere: only its faces changed).
   long after = 0;
-  for (Eigen::Index f = 0; f < nf; ++f) after += bad_face(sphere, faces, f, min_height);
+  for (Eigen::Index f = 0; f < nf; ++f) after += is_bad_sphere_face(sphere, faces, f, min_height);
   result.bad_faces_after = after;
   for (Eigen::Index i = 0; i < nv; ++i)
     if (sphere.row(i) != original.row(i)) ++result.moved_vertices;

@@ -54,6 +54,14 @@ FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eig
   return d;
 }
 
+bool is_bad_sphere_face(const Eigen::MatrixX3d& u, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height) {
+  const Eigen::Vector3d a = u.row(faces(f, 0)), b = u.row(faces(f, 1)), c = u.row(faces(f, 2));
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  if (!(n.dot(a + b + c) > 0)) return true;
+  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  return !(n.norm() >= min_height * longest);
+}
+
 MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                        const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds) {
   MapQuality q;

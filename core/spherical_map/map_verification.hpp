@@ -38,6 +38,11 @@ FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eig
 
 // First failed check in the order non_finite, flipped_faces, degenerate_faces, degree, and — only with
 // strict_conformal_bound — conformal_distortion; MapCheck::None when the map passes.
+// The per-face sphere test of measure_map(), for the repairs (untangle, chart_untangle): face f is flipped (its chord
+// triangle does not face away from the origin, i.e. det(a, b, c) <= 0) or numerically degenerate (height below
+// min_height).
+bool is_bad_sphere_face(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height);
+
 MapCheck failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
 
 }  // namespace wish::spherical

@@ -5,21 +5,9 @@
 
 #include <Eigen/Geometry>
 
+#include "core/spherical_map/map_verification.hpp"
+
 namespace wish::spherical {
-namespace {
-
-// Flipped (chord triangle facing the origin) or numerically degenerate (height below the threshold): the same
-// tests as measure_map().
-bool bad_face(const Eigen::MatrixX3d& u, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height) {
-  const Eigen::Vector3d a = u.row(faces(f, 0)), b = u.row(faces(f, 1)), c = u.row(faces(f, 2));
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  if (!(n.dot(a + b + c) > 0)) return true;
-  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-  return !(n.norm() >= min_height * longest);
-}
-
-}  // namespace
-
 UntangleResult untangle_sphere_map(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces,
                                    const MapVerificationThresholds& thresholds, const UntangleOptions& options) {
   UntangleResult result;
@@ -28,7 +16,7 @@ UntangleResult untangle_sphere_map(Eigen::MatrixX3d& sphere, const Eigen::Matrix
   auto find_bad = [&] {
     std::vector<Eigen::Index> bad;
     for (Eigen::Index f = 0; f < nf; ++f)
-      if (bad_face(sphere, faces, f, thresholds.degenerate_height)) bad.push_back(f);
+      if (is_bad_sphere_face(sphere, faces, f, thresholds.degenerate_height)) bad.push_back(f);
     return bad;
   };
   std::vector<Eigen::Index> bad = find_bad();

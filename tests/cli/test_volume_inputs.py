@@ -11,10 +11,11 @@ import io
 import json
 import os
 import shutil
-import struct
 import subprocess
 import tempfile
 import unittest
+
+import synthetic_volume
 
 SOURCE_DIR = os.environ.get("WISH_SOURCE_DIR", os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")))
 WISH_BIN = os.environ.get("WISH_BIN", os.path.join(SOURCE_DIR, "build", "release", "cli", "wish"))
@@ -22,21 +23,12 @@ ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
 
 
 def nifti_bytes(dims, labels, spacing=(1.0, 1.0, 1.0)):
-    """NIfTI-1 single file, little endian, uint8 voxels, x fastest. labels: {(x, y, z): value}."""
+    """NIfTI-1 single file, uint8 voxels, x fastest (tests/testing/synthetic_volume.py). labels: {(x, y, z): value}."""
     nx, ny, nz = dims
-    header = bytearray(348)
-    struct.pack_into("<i", header, 0, 348)
-    struct.pack_into("<8h", header, 40, 3, nx, ny, nz, 1, 1, 1, 1)
-    struct.pack_into("<hh", header, 70, 2, 8)  # datatype uint8, bitpix 8
-    struct.pack_into("<8f", header, 76, 1.0, spacing[0], spacing[1], spacing[2], 1, 1, 1, 1)
-    struct.pack_into("<f", header, 108, 352.0)  # vox_offset
-    struct.pack_into("<f", header, 112, 1.0)  # scl_slope
-    header[123] = 2  # xyzt_units: mm
-    header[344:348] = b"n+1\0"
     data = bytearray(nx * ny * nz)
     for (x, y, z), v in labels.items():
         data[x + nx * (y + ny * z)] = v
-    return bytes(header) + b"\0\0\0\0" + bytes(data)
+    return synthetic_volume.nifti_bytes(data, dims=dims, spacing=spacing)
 
 
 def ellipsoid(center, axes, spacing):
