@@ -23,4 +23,11 @@ ApiResponse error_response(const ApiError& error, const std::string& request_id)
   return out;
 }
 
+int batch_status(const std::vector<int>& part_statuses) {
+  if (part_statuses.empty()) return 200;
+  for (const int s : part_statuses)
+    if (s != part_statuses.front()) return 207;
+  return part_statuses.front();
+}
+
 }  // namespace wish::server

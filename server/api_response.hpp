@@ -32,4 +32,9 @@ ApiResponse json_response(int status, const nlohmann::json& body);
 // The one error body (error_mapping.hpp) with Retry-After (503) and WWW-Authenticate (401) headers.
 ApiResponse error_response(const ApiError& error, const std::string& request_id);
 
+// The status of a multipart (batch) answer from its parts' own statuses (RFC 4918 §13 Multi-Status): the parts'
+// common status when they all agree (all 200 -> 200, every part 422 -> 422, so `curl -f` sees a single bad upload
+// fail), 207 when they differ. The body is the same BatchResponse either way.
+int batch_status(const std::vector<int>& part_statuses);
+
 }  // namespace wish::server

@@ -1,5 +1,7 @@
 #include "server/gateway.hpp"
 
+#include <filesystem>
+#include <fstream>
 #include <future>
 #include <memory>
 
@@ -60,6 +62,26 @@ ApiResponse Gateway::model(const std::string& name, const std::string& request_i
   nlohmann::json info = model_info(*model);
   info["is_default"] = name == models_.default_name();
   return json_response(200, info);
+}
+
+ApiResponse Gateway::model_report(const std::string& name, const std::string& request_id) const {
+  const auto model = models_.find(name);
+  if (!model)
+    return error_response(to_api_error(WishError(ErrorCategory::NotFound, "model_not_found",
+                                                 "no model named '" + name + "' is loaded", {{"model", name}})),
+                          request_id);
+  const std::filesystem::path path = training_report_path(*model);
+  const auto not_found = [&](const std::string& why) {
+    return error_response(to_api_error(WishError(ErrorCategory::NotFound, "report_not_found",
+                                                 "model '" + name + "' has no training report: " + why,
+                                                 {{"model", name}, {"file", path.filename().string()}})),
+                          request_id);
+  };
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return not_found(path.filename().string() + " is not beside the model file");
+  nlohmann::json report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!report.is_object()) return not_found(path.filename().string() + " is not a JSON object");
+  return json_response(200, report);
 }
 
 ApiResponse Gateway::reload() {
@@ -156,9 +178,11 @@ ApiResponse Gateway::assemble(const ComputeRequest& request, const std::vector<M
     }
   } else {
     nlohmann::json results = nlohmann::json::array();
-    std::string first_error;
+    std::vector<int> statuses;
+    const ApiError* first_error = nullptr;
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       auto& o = outcomes[i];
+      statuses.push_back(o.status);
       nlohmann::json item{{"part", parts[i].field}, {"status", o.status}};
       if (!parts[i].filename.empty()) item["filename"] = parts[i].filename;
       if (o.status == 200) {
@@ -166,12 +190,21 @@ ApiResponse Gateway::assemble(const ComputeRequest& request, const std::vector<M
         item["result"] = std::move(o.result);
       } else {
         item["error"] = error_object(o.error);
-        if (first_error.empty()) first_error = o.error.code;
+        if (!first_error) first_error = &o.error;
       }
       results.push_back(std::move(item));
     }
-    out = json_response(200, {{"request_id", request.request_id}, {"results", std::move(results)}});
-    out.error_code = first_error;
+    // Every part failed the same way: the answer has that status, and (like every 4xx/5xx answer) a top-level
+    // `error`, the first part's, so a client that only reads error.code still finds it.
+    const int status = batch_status(statuses);
+    nlohmann::json body{{"request_id", request.request_id}, {"results", std::move(results)}};
+    if (status >= 400 && first_error) body["error"] = error_object(*first_error);
+    out = json_response(status, body);
+    if (first_error) {
+      out.error_code = first_error->code;
+      if (status == 503 && first_error->retry_after_seconds > 0)
+        out.headers.emplace_back("Retry-After", std::to_string(first_error->retry_after_seconds));
+    }
   }
   if (counted) { out.vertices = vertices; out.faces = faces; }
   return out;

@@ -50,6 +50,9 @@ class Gateway {
   ApiResponse metrics_text() const;                                    // GET /metrics
   ApiResponse list_models() const;                                     // GET /v1/models
   ApiResponse model(const std::string& name, const std::string& request_id) const;  // GET /v1/models/{name}
+  // GET /v1/models/{name}/report: the training report beside the model file, as written (404 model_not_found,
+  // 404 report_not_found when there is none or it is not a JSON object).
+  ApiResponse model_report(const std::string& name, const std::string& request_id) const;
   ApiResponse reload();                                                // POST /v1/admin/reload
   // POST /v1/describe, /v1/classify. Never throws: every failure is an error response.
   ApiResponse compute(ComputeRequest request);

@@ -265,6 +265,10 @@ struct HttpServer::Impl {
       t_request.route = "/v1/models/{name}";
       write_response(res, gateway.model(req.matches[1], t_request.request_id));
     });
+    server.Get(R"(/v1/models/([^/]+)/report)", [this](const httplib::Request& req, httplib::Response& res) {
+      t_request.route = "/v1/models/{name}/report";
+      write_response(res, gateway.model_report(req.matches[1], t_request.request_id));
+    });
     server.Post("/v1/admin/reload", [this](const httplib::Request&, httplib::Response& res) {
       t_request.route = "/v1/admin/reload";
       write_response(res, gateway.reload());

@@ -90,6 +90,9 @@ int model_steps(const DescriptorRecipe& recipe) {
 
 const nlohmann::json& model_info(const LoadedModel& model) { return model.info; }
 const std::string& model_name(const LoadedModel& model) { return model.model.name(); }
+std::filesystem::path training_report_path(const LoadedModel& model) {
+  return model.file.parent_path() / (model.file.stem().string() + "-report.json");
+}
 
 nlohmann::json ReloadReport::to_json() const {
   nlohmann::json out{{"loaded", loaded}, {"refused", nlohmann::json::array()}, {"models", loaded.size()}};

@@ -20,6 +20,10 @@ struct LoadedModel;  // defined in loaded_model.hpp
 // The model's ModelInfo JSON (proto/openapi.json): name, version, classes, descriptor settings, training summary.
 const nlohmann::json& model_info(const LoadedModel& model);
 const std::string& model_name(const LoadedModel& model);
+// Where `wish train` writes the model's training report: `<model file stem>-report.json` beside the model file
+// (core/classify/training_report.hpp: grid search, hold-out confusion matrix, per-class scores, losses). It is read
+// when asked for (GET /v1/models/{name}/report), not at load: a report is not part of the model.
+std::filesystem::path training_report_path(const LoadedModel& model);
 
 struct ReloadReport {
   std::vector<std::string> loaded;  // names of the models in the new snapshot

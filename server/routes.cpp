@@ -1,28 +1,40 @@
 #include "server/routes.hpp"
 
+#include <algorithm>
+
 namespace wish::server {
 
 namespace {
 
 struct Route {
-  const char* path;  // exact, or ending in "/{}" for one more path segment
+  const char* path;  // segments; "{}" is any one non-empty segment
   const char* allow;
 };
 
 constexpr Route kRoutes[] = {
     {"/healthz", "GET, HEAD"},         {"/readyz", "GET, HEAD"},        {"/metrics", "GET, HEAD"},
     {"/openapi.json", "GET, HEAD"},    {"/v1/models", "GET, HEAD"},     {"/v1/models/{}", "GET, HEAD"},
+    {"/v1/models/{}/report", "GET, HEAD"},
     {"/v1/admin/reload", "POST"},      {"/v1/describe", "POST"},        {"/v1/classify", "POST"},
 };
 
+// The next '/'-separated segment of `s` (after its leading '/'), removed from `s`.
+std::string_view next_segment(std::string_view& s) {
+  if (!s.empty() && s.front() == '/') s.remove_prefix(1);
+  const std::size_t end = std::min(s.find('/'), s.size());
+  const std::string_view segment = s.substr(0, end);
+  s.remove_prefix(end);
+  return segment;
+}
+
 bool matches(std::string_view pattern, std::string_view path) {
-  constexpr std::string_view segment = "/{}";
-  if (pattern.size() >= segment.size() && pattern.substr(pattern.size() - segment.size()) == segment) {
-    const std::string_view prefix = pattern.substr(0, pattern.size() - 2);  // keeps the '/'
-    if (path.size() <= prefix.size() || path.substr(0, prefix.size()) != prefix) return false;
-    return path.substr(prefix.size()).find('/') == std::string_view::npos;
+  while (!pattern.empty() || !path.empty()) {
+    if (pattern.empty() || path.empty() || path.front() != '/') return false;
+    const std::string_view want = next_segment(pattern);
+    const std::string_view got = next_segment(path);
+    if (want == "{}" ? got.empty() : want != got) return false;
   }
-  return pattern == path;
+  return true;
 }
 
 }  // namespace

@@ -61,6 +61,7 @@ constexpr std::array kCodes{
     ErrorCodeInfo{"parse_error", C::InvalidInput, 0, "the file's syntax is wrong (line and token in the message)"},
     ErrorCodeInfo{"payload_too_large", C::TooLarge, 0, "the request body exceeds the upload limit"},
     ErrorCodeInfo{"queue_full", C::Unavailable, 0, "the worker queue is full; retry after Retry-After seconds"},
+    ErrorCodeInfo{"report_not_found", C::NotFound, 0, "the model has no readable training report beside its file"},
     ErrorCodeInfo{"shutting_down", C::Unavailable, 0, "the server is draining for shutdown"},
     ErrorCodeInfo{"timeout", C::Timeout, 0, "the per-request time limit passed"},
     ErrorCodeInfo{"too_many_parts", C::TooLarge, 0, "a multipart request has more parts than allowed"},

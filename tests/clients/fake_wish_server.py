@@ -56,6 +56,7 @@ class FakeWishServer:
         self.require_token: str | None = None
         self.in_flight = 0                      # compute requests being "computed" now
         self.max_in_flight = 0
+        self.batch_statuses: list[int] = []     # HTTP status of each multipart answer sent
         self._ids = itertools.count(1)
         self.httpd = ThreadingHTTPServer(("127.0.0.1", port), self._handler())
         self.httpd.daemon_threads = True
@@ -233,7 +234,15 @@ class FakeWishServer:
                     else:
                         items.append({"part": "mesh", "filename": name, "status": 200,
                                       "result": self._result(rid, name, content, label, classify)})
-                self._send(200, {"request_id": rid, "results": items}, {"X-Request-Id": rid})
+                # proto BatchResponse: 200 all good, the common status when all failed alike (with the first
+                # part's error at the top level), 207 Multi-Status when the parts differ.
+                statuses = {item["status"] for item in items}
+                status = statuses.pop() if len(statuses) == 1 else 207
+                doc: dict[str, Any] = {"request_id": rid, "results": items}
+                if status >= 400:
+                    doc["error"] = items[0]["error"]
+                srv.batch_statuses.append(status)
+                self._send(status, doc, {"X-Request-Id": rid})
 
             @staticmethod
             def _parts(ctype: str, body: bytes) -> list[tuple[str, bytes]]:

@@ -55,6 +55,31 @@ class LibraryTest(unittest.TestCase):
         self.assertEqual((out[1].status, out[1].code), (422, "genus_nonzero"))
         self.assertEqual(out[2].label, "pericyte")
         self.assertEqual(self.server.compute_requests()[-1]["names"], ["a.obj", "torus.obj", "c.obj"])
+        self.assertEqual(self.server.batch_statuses, [207])  # the parts differ: Multi-Status, read as usual
+
+    def test_multipart_whose_parts_all_fail_is_read_per_part_and_not_retried(self) -> None:
+        # Every part refused alike: the answer is that part status (422), with one entry per part; the client
+        # gives each part's error instead of raising, and does not send a refusal of the input again.
+        out = self.client.classify([("t1.obj", fake_mesh(error="genus_nonzero")),
+                                    ("t2.obj", fake_mesh(error="genus_nonzero"))])
+        self.assertEqual(self.server.batch_statuses, [422])
+        self.assertEqual([(e.status, e.code) for e in out], [(422, "genus_nonzero")] * 2)  # type: ignore[union-attr]
+        self.assertEqual(len(self.server.compute_requests()), 1)
+        one = self.client.describe([("t3.obj", fake_mesh(error="not_closed"))])
+        self.assertEqual(self.server.batch_statuses, [422, 422])
+        self.assertIsInstance(one[0], WishServerError)
+        self.assertEqual(one[0].code, "not_closed")  # type: ignore[union-attr]
+        self.assertEqual(len(self.server.compute_requests()), 2)
+
+    def test_multipart_all_good_is_200(self) -> None:
+        out = self.client.classify([("a.obj", fake_mesh("neuron")), ("b.obj", fake_mesh("neuron"))])
+        self.assertEqual([r.label for r in out], ["neuron", "neuron"])  # type: ignore[union-attr]
+        self.assertEqual(self.server.batch_statuses, [200])
+
+    def test_request_level_error_of_a_multipart_upload_raises(self) -> None:
+        with self.assertRaises(WishServerError) as cm:  # no `results`: the request itself was refused
+            self.client.classify([("a.obj", fake_mesh("neuron"))], model="nope")
+        self.assertEqual((cm.exception.status, cm.exception.code), (404, "model_not_found"))
 
     def test_describe(self) -> None:
         d = self.client.describe(fake_mesh(), lmax=5)

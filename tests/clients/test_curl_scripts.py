@@ -60,10 +60,15 @@ class CurlScriptsTest(unittest.TestCase):
     def test_examples_script(self) -> None:
         mesh = self.tmp / "example.obj"
         mesh.write_bytes(fake_mesh("astrocyte"))
-        r = subprocess.run(["bash", str(EXAMPLES), self.server.url, str(mesh)], capture_output=True, text=True,
-                           timeout=60)
+        bad = self.tmp / "open.obj"
+        bad.write_bytes(fake_mesh(error="not_closed"))
+        r = subprocess.run(["bash", str(EXAMPLES), self.server.url, str(mesh), str(bad)], capture_output=True,
+                           text=True, timeout=60)
         self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
         self.assertIn('"label": "astrocyte"', r.stdout)
+        self.assertEqual(r.stdout.count("exit 22, HTTP 422"), 2)  # multipart and raw body: curl -f fails
+        self.assertIn("HTTP 207", r.stdout)
+        self.assertEqual(self.server.batch_statuses, [200, 422, 207, 200])  # good batch, bad alone, mixed, describe
         self.assertIn("model_not_found", r.stdout)
         self.assertIn("wish_http_requests_total", r.stdout)
 

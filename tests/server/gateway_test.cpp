@@ -177,6 +177,72 @@ TEST(Gateway, BadParameterIsRefusedBeforeAnyJob) {
   EXPECT_EQ(f.compute.count(), 0u);
 }
 
+// The answer's status follows its parts': a one-part upload of a bad mesh fails as that part did (so `curl -f`
+// sees it), every part good is 200, the same error in every part is that error's status, and parts that differ are
+// 207 (see the test above). The body is the same BatchResponse in every case.
+TEST(Gateway, BatchStatusIsThePartsCommonStatus) {
+  Fixture f;
+  f.compute.reply = [](const ComputeJob& job) {
+    ComputeOutcome o;
+    if (*job.part.bytes == "bad") {
+      o.error = to_api_error(WishError(ErrorCategory::Unmappable, "genus_nonzero", "genus 1"));
+      o.status = o.error.status;
+    } else if (*job.part.bytes == "huge") {
+      o.error = to_api_error(WishError(ErrorCategory::TooLarge, "limit_exceeded", "too many vertices"));
+      o.status = o.error.status;
+    } else {
+      o.status = 200;
+      o.result = {{"content", *job.part.bytes}};
+    }
+    return o;
+  };
+  const auto run = [&](std::vector<std::string> contents) {
+    std::vector<FormPart> form;
+    for (std::size_t i = 0; i < contents.size(); ++i)
+      form.push_back({"mesh", "m" + std::to_string(i) + ".off", "", contents[i]});
+    return f.gateway.compute(multipart_request(Operation::Describe, std::move(form)));
+  };
+  ApiResponse r = run({"bad"});
+  EXPECT_EQ(r.status, 422) << r.body;
+  auto body = body_of(r);
+  ASSERT_EQ(body["results"].size(), 1u);
+  EXPECT_EQ(body["results"][0]["status"], 422);
+  EXPECT_EQ(body["results"][0]["error"]["code"], "genus_nonzero");
+  EXPECT_EQ(body["error"]["code"], "genus_nonzero");  // the top-level error every 4xx answer carries
+  EXPECT_EQ(r.error_code, "genus_nonzero");
+
+  r = run({"good"});
+  EXPECT_EQ(r.status, 200) << r.body;
+  EXPECT_FALSE(body_of(r).contains("error"));
+
+  r = run({"good", "good"});
+  EXPECT_EQ(r.status, 200) << r.body;
+
+  r = run({"bad", "bad"});
+  EXPECT_EQ(r.status, 422) << r.body;
+
+  r = run({"huge"});
+  EXPECT_EQ(r.status, 413) << r.body;
+  EXPECT_EQ(body_of(r)["error"]["code"], "limit_exceeded");
+
+  r = run({"bad", "huge"});  // two different errors: still Multi-Status
+  EXPECT_EQ(r.status, 207) << r.body;
+  body = body_of(r);
+  EXPECT_EQ(body["results"][0]["status"], 422);
+  EXPECT_EQ(body["results"][1]["status"], 413);
+}
+
+TEST(Gateway, BatchStatusRule) {
+  EXPECT_EQ(batch_status({}), 200);
+  EXPECT_EQ(batch_status({200}), 200);
+  EXPECT_EQ(batch_status({422}), 422);
+  EXPECT_EQ(batch_status({200, 200, 200}), 200);
+  EXPECT_EQ(batch_status({504, 504}), 504);
+  EXPECT_EQ(batch_status({200, 422}), 207);
+  EXPECT_EQ(batch_status({422, 200}), 207);
+  EXPECT_EQ(batch_status({422, 413}), 207);
+}
+
 TEST(Gateway, BatchAnswersOneEntryPerPartInOrder) {
   Fixture f;
   f.compute.reply = [](const ComputeJob& job) {
@@ -195,8 +261,9 @@ TEST(Gateway, BatchAnswersOneEntryPerPartInOrder) {
   const ApiResponse r = f.gateway.compute(multipart_request(
       Operation::Describe, {{"mesh1", "a.off", "", "good"}, {"lmax", "", "", "5"}, {"mesh2", "b.off", "", "bad"},
                             {"file3", "", "", "good2"}}));
-  ASSERT_EQ(r.status, 200) << r.body;
+  ASSERT_EQ(r.status, 207) << r.body;  // the parts differ: Multi-Status
   const auto body = body_of(r);
+  EXPECT_FALSE(body.contains("error"));  // a 207 is not an error answer
   EXPECT_EQ(body["request_id"], "req-2");
   ASSERT_EQ(body["results"].size(), 3u);
   EXPECT_EQ(body["results"][0]["part"], "mesh1");

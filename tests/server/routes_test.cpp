@@ -14,11 +14,16 @@ TEST(Routes, KnownPathsAndTheirMethods) {
   EXPECT_EQ(allowed_methods("/v1/admin/reload", false), "POST");
   EXPECT_EQ(allowed_methods("/v1/models", false), "GET, HEAD");
   EXPECT_EQ(allowed_methods("/v1/models/default", false), "GET, HEAD");
+  EXPECT_EQ(allowed_methods("/v1/models/default/report", false), "GET, HEAD");
 }
 
 TEST(Routes, UnknownPathsAreNotRoutes) {
   EXPECT_EQ(allowed_methods("/v1/models/a/b", false), "");  // one segment only
   EXPECT_EQ(allowed_methods("/v1/models/", false), "");
+  EXPECT_EQ(allowed_methods("/v1/models//report", false), "");  // the name segment is not empty
+  EXPECT_EQ(allowed_methods("/v1/models/a/report/x", false), "");
+  EXPECT_EQ(allowed_methods("/v1/models/a/reports", false), "");
+  EXPECT_EQ(allowed_methods("/healthz/", false), "");
   EXPECT_EQ(allowed_methods("/v1/describes", false), "");
   EXPECT_EQ(allowed_methods("/index.html", false), "");
   EXPECT_EQ(allowed_methods("/v1/nothing", true), "");      // the page never covers the API

@@ -25,11 +25,13 @@ const work = mkdtempSync(join(tmpdir(), 'wish-web-test-'));
 const servers = [];
 let browser = null;
 
-// A `wish serve` on a free port; resolves with its base URL once it logs "listening on".
-async function startServer(extraArgs = []) {
+// A `wish serve` on a free port; resolves with its base URL once it logs "listening on". modelFiles: more files
+// for the models directory ({name: text}) besides default.json.
+async function startServer(extraArgs = [], modelFiles = {}) {
   const models = join(work, `models-${servers.length}`);
   mkdirSync(models);
   copyFileSync(join(source, 'data', 'models', 'default.json'), join(models, 'default.json'));
+  for (const [name, text] of Object.entries(modelFiles)) writeFileSync(join(models, name), text);
   const logPath = join(work, `server-${servers.length}.log`);
   const log = openSync(logPath, 'w');
   const proc = spawn(wishBin, ['serve', '--models', models, '--host', '127.0.0.1', '--port', '0', '--workers', '2',
@@ -276,6 +278,82 @@ test('describe with a chosen Lmax and method', { skip: missing || false, timeout
   assert.match(await page.textContent('#prediction'), /no prediction/);
   // 8 degrees: the spectrum shows l = 1..8.
   assert.equal(await page.locator('#spectrum circle').count(), 8);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('Models: metadata and the training report (heat map, confusion matrix, per-class scores)',
+     { skip: missing || false, timeout: 120000 }, async () => {
+  const report = readFileSync(join(source, 'data', 'models', 'default-report.json'), 'utf8');
+  const base = await startServer(['--default-model', 'default'], { 'default-report.json': report });
+  const { page, problems } = await newPage();
+  await page.goto(base + '/');
+  await page.waitForSelector('.model[data-model="default"] .report-box[data-state="shown"]', { timeout: 30000 });
+  const api = await (await fetch(`${base}/v1/models/default/report`)).json();
+  assert.deepEqual(api, JSON.parse(report));  // the endpoint serves the file as written
+  const card = '.model[data-model="default"]';
+
+  // The heat map: one cell per (C, gamma), each holding the JSON's mean accuracy, printed to 2 decimals; the
+  // best cell outlined; the colours vary with the value (the view draws).
+  const cells = await page.$$eval(`${card} svg.heatmap g.cell`, (gs) => gs.map((g) => ({
+    row: Number(g.dataset.row), col: Number(g.dataset.col), value: Number(g.dataset.value),
+    text: g.querySelector('text').textContent, fill: g.querySelector('rect').getAttribute('fill'),
+    best: g.classList.contains('best') })));
+  const grid = api.grid;
+  assert.equal(cells.length, grid.C.length * grid.gamma.length);
+  for (const c of cells) {
+    assert.equal(c.value, grid.mean_accuracy[c.row][c.col], `cell ${c.row},${c.col}`);
+    assert.equal(c.text, grid.mean_accuracy[c.row][c.col].toFixed(2), `cell ${c.row},${c.col} text`);
+  }
+  const best = cells.filter((c) => c.best);
+  assert.deepEqual(best.map((c) => [grid.C[c.row], grid.gamma[c.col]]), [[grid.best_C, grid.best_gamma]]);
+  assert.equal(best[0].value, grid.best_score);
+  const distinctValues = new Set(cells.map((c) => c.value)).size;
+  assert.ok(distinctValues > 1);
+  assert.ok(new Set(cells.map((c) => c.fill)).size > 1, 'every heat-map cell has the same colour');
+
+  // The confusion matrix: every count as in the JSON (rows true, columns predicted).
+  const counts = await page.$$eval(`${card} table.confusion td[data-row]`, (tds) => tds.map((td) => [
+    Number(td.dataset.row), Number(td.dataset.col), td.textContent]));
+  const cm = api.test.confusion_matrix;
+  assert.equal(counts.length, cm.length * cm.length);
+  for (const [i, j, text] of counts) assert.equal(text, String(cm[i][j]), `confusion ${i},${j}`);
+
+  // Per-class precision / recall / F1 as printed (3 significant digits) and the support exactly.
+  const scores = await page.$$eval(`${card} table.per-class td[data-metric]`, (tds) => tds.map((td) => [
+    td.dataset.label, td.dataset.metric, td.textContent]));
+  assert.equal(scores.length, api.test.per_class.length * 4);
+  for (const [label, metric, text] of scores) {
+    const want = api.test.per_class.find((c) => c.label === label)[metric];
+    if (metric === 'support') assert.equal(text, String(want));
+    else assert.ok(Math.abs(Number(text) - want) <= 5e-3 * Math.abs(want) + 1e-12, `${label} ${metric}: ${text} vs ${want}`);
+  }
+  // The meshes each class kept and lost in training.
+  const losses = await page.$$eval(`${card} table.losses td[data-metric]`, (tds) => tds.map((td) => [
+    td.dataset.label, td.dataset.metric, td.textContent]));
+  assert.equal(losses.length, api.losses.length * 3);
+  for (const [label, metric, text] of losses)
+    assert.equal(text, String(api.losses.find((c) => c.label === label)[metric]));
+  const summary = await page.textContent(`${card} .report-summary`);
+  assert.ok(summary.includes(`${api.samples} samples`) && summary.includes(`hold-out ${api.test.accuracy.toPrecision(3)}`), summary);
+
+  await page.locator(card).screenshot({ path: join(shotDir, 'models-report.png') });
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
+test('Models: a model without a report says so', { skip: missing || false, timeout: 120000 }, async () => {
+  const base = await startServer();  // default.json alone, no default-report.json beside it
+  const { page, problems } = await newPage();
+  await page.goto(base + '/');
+  await page.waitForSelector('.model[data-model="default"] .report-box[data-state="absent"]', { timeout: 30000 });
+  const api = await fetch(`${base}/v1/models/default/report`);
+  assert.equal(api.status, 404);
+  const code = (await api.json()).error.code;
+  assert.equal(code, 'report_not_found');
+  assert.equal(await page.getAttribute('.model[data-model="default"] .report-box', 'data-code'), code);
+  assert.match(await page.textContent('.model[data-model="default"] .report-box'), /No training report/);
+  assert.equal(await page.locator('.model svg.heatmap').count(), 0);
   assert.deepEqual(problems, []);
   await page.close();
 });

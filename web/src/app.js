@@ -3,6 +3,7 @@
 // the loaded models. Talks only to the documented API (api.js).
 import { ApiError, getJson, postMesh, setTokenPrompt } from './api.js';
 import { cssGradient, diverging, robustRange, viridis } from './colormap.js';
+import { renderReport } from './model_report.js';
 import { fmt, probabilityBars, spectrumPlot } from './plots.js';
 import { evaluateSurface, fitError } from './sh.js';
 import { MeshViewer } from './viewer.js';
@@ -75,7 +76,29 @@ function renderModels() {
       const dd = document.createElement('dd'); dd.textContent = v;
       dl.append(dt, dd);
     }
+    div.dataset.model = m.name;
+    const report = document.createElement('div');
+    report.className = 'report-box';
+    report.dataset.state = 'loading';
+    report.textContent = 'training report: loading…';
+    div.append(report);
     box.append(div);
+    showReport(m.name, report);
+  }
+}
+
+// The training report beside the model file, when there is one (404 report_not_found otherwise: said, not an error).
+async function showReport(name, box) {
+  try {
+    const report = await getJson(`/v1/models/${encodeURIComponent(name)}/report`);
+    box.replaceChildren(renderReport(report));
+    box.dataset.state = 'shown';
+  } catch (e) {
+    const absent = e instanceof ApiError && e.code === 'report_not_found';
+    box.dataset.state = absent ? 'absent' : 'error';
+    box.dataset.code = e.code || '';
+    box.className = 'report-box note' + (absent ? '' : ' error');
+    box.textContent = absent ? 'No training report beside this model file.' : `training report: HTTP ${e.status} ${e.code}: ${e.message}`;
   }
 }
 

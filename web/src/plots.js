@@ -64,3 +64,45 @@ export function probabilityBars(probabilities, winner) {
   }
   return box;
 }
+
+// A grid-search heat map: values[i][j] at row rows[i], column cols[j] (for the training report: rows C, columns γ,
+// values the mean cross-validated accuracy), coloured by `scale` (t in [0, 1] -> [r, g, b] in [0, 1]) over the
+// values' [min, max] and printed in each cell. `best`
+// = [i, j] is outlined. Each cell carries data-row, data-col and data-value (the JSON number) for tests.
+export function heatMap(rows, cols, values, { rowName = 'C', colName = 'γ', best = null, cell = 30, digits = 2,
+                                                scale = () => [0.6, 0.6, 0.6] } = {}) {
+  const m = { l: 58, t: 12, r: 12, b: 44 };
+  const width = m.l + cols.length * cell + m.r, height = m.t + rows.length * cell + m.b;
+  const svg = el('svg', { width, height, viewBox: `0 0 ${width} ${height}`, role: 'img', 'aria-label': 'grid heat map',
+                          class: 'heatmap' });
+  const flat = values.flat().filter(Number.isFinite);
+  const lo = Math.min(...flat), hi = Math.max(...flat);
+  const tick = (v) => {
+    const e = Math.log10(v);
+    return Math.abs(e - Math.round(e)) < 1e-9 ? `1e${Math.round(e)}` : fmt(v, 2);
+  };
+  rows.forEach((r, i) => {
+    svg.append(el('text', { x: m.l - 4, y: m.t + i * cell + cell / 2 + 4, 'text-anchor': 'end' }, tick(r)));
+    cols.forEach((c, j) => {
+      const v = values[i]?.[j];
+      const t = hi > lo ? (v - lo) / (hi - lo) : 1;
+      const fill = `rgb(${scale(t).map((c) => Math.round(255 * c)).join(',')})`;
+      const x = m.l + j * cell, y = m.t + i * cell;
+      const isBest = best && best[0] === i && best[1] === j;
+      const g = el('g', { class: 'cell' + (isBest ? ' best' : ''), 'data-row': i, 'data-col': j, 'data-value': v });
+      g.append(el('rect', { x, y, width: cell, height: cell, fill: Number.isFinite(v) ? fill : '#eee',
+                            stroke: isBest ? '#dc2626' : '#fff', 'stroke-width': isBest ? 2.5 : 0.5 }));
+      // Dark cells get white digits (viridis is dark at the low end).
+      g.append(el('text', { x: x + cell / 2, y: y + cell / 2 + 4, 'text-anchor': 'middle', class: 'value',
+                            style: `fill:${t < 0.55 ? '#fff' : '#111'};font-size:${cell < 32 ? 9 : 11}px` },
+                  Number.isFinite(v) ? v.toFixed(digits) : '—'));
+      svg.append(g);
+    });
+  });
+  cols.forEach((c, j) => svg.append(el('text', { x: m.l + j * cell + cell / 2, y: m.t + rows.length * cell + 14,
+                                                 'text-anchor': 'middle', style: 'font-size:9px' }, tick(c))));
+  svg.append(el('text', { x: m.l + (cols.length * cell) / 2, y: height - 8, 'text-anchor': 'middle' }, colName));
+  svg.append(el('text', { x: 12, y: m.t + (rows.length * cell) / 2, 'text-anchor': 'middle',
+                          transform: `rotate(-90 12 ${m.t + (rows.length * cell) / 2})` }, rowName));
+  return svg;
+}

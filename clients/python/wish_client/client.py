@@ -212,7 +212,8 @@ def _error_from_response(status: int, headers: Any, body: bytes) -> WishServerEr
         doc = json.loads(body.decode("utf-8"))
         err = doc["error"]
         return WishServerError(status, str(err.get("code") or f"http_{status}"), str(err.get("message", "")),
-                               err.get("details") or {}, doc.get("request_id") or header_rid, retry_after)
+                               err.get("details") or {}, doc.get("request_id") or header_rid, retry_after,
+                               document=doc if isinstance(doc, dict) else None)
     except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError):
         text = body.decode("utf-8", "replace").strip().replace("\n", " ")
         return WishServerError(status, f"http_{status}", text[:300] or http.client.responses.get(status, ""),
@@ -347,7 +348,16 @@ class WishClient:
             doc = self._json("POST", path, body=content, content_type="application/octet-stream", query=query)
             return True, [(name, doc)]
         body, ctype = encode_multipart([("mesh", name, content) for name, content in parts])
-        doc = self._json("POST", path, body=body, content_type=ctype, query=params)
+        # The answer's status follows its parts' (proto: BatchResponse): 200 all good, 207 Multi-Status when they
+        # differ, and the parts' common 4xx/5xx when every part failed alike — that one still carries one entry per
+        # part, read here like the others. A request-level error (no `results`: bad parameter, unknown model,
+        # queue full after the retries) raises.
+        try:
+            doc = self._json("POST", path, body=body, content_type=ctype, query=params)
+        except WishServerError as e:
+            if not (isinstance(e.document, dict) and isinstance(e.document.get("results"), list)):
+                raise
+            doc = e.document
         out: list[tuple[str, dict[str, Any] | WishServerError]] = []
         for (name, _), item in zip(parts, doc.get("results", [])):
             if "error" in item:

@@ -29,11 +29,15 @@ class WishServerError(WishClientError):
         details: structured details (numbers that matter), possibly empty.
         request_id: the server's request id (also sent as the ``X-Request-Id`` header), for its logs.
         retry_after: seconds the server asked us to wait (``Retry-After`` on 503), or ``None``.
+        document: the whole JSON body of the answer when it was JSON (a multipart answer whose parts all failed
+            alike is a 4xx with one entry per part in ``document["results"]``), else ``None``.
     """
 
     def __init__(self, status: int, code: str, message: str, details: dict[str, Any] | None = None,
-                 request_id: str | None = None, retry_after: float | None = None) -> None:
+                 request_id: str | None = None, retry_after: float | None = None,
+                 document: dict[str, Any] | None = None) -> None:
         self.status = status
+        self.document = document
         self.code = code
         self.message = message
         self.details = dict(details or {})
@@ -45,6 +49,7 @@ class WishServerError(WishClientError):
     @property
     def retryable(self) -> bool:
         """True when retrying later may succeed: overloaded / shutting down / bad gateway / rate limited.
+        Never for a refusal of the input (400, 413, 415, 422): the same upload fails the same way.
 
         A 504 is retried only when a proxy produced it (no service error JSON): the service's own 504 means the
         mesh exceeded its time limit, and sending it again would only burn the same time again.
