@@ -39,7 +39,9 @@ class BatchStatusTest(unittest.TestCase):
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
     def batch(self, *parts, op="describe"):
-        files = [("mesh", "m%d.off" % i, data) for i, data in enumerate(parts)]
+        # Parts are named by their content (the reader takes a hint from the extension): garbage is not an .off.
+        files = [("mesh", ("garbage%d.bin" if data is self.garbage else "m%d.off") % i, data)
+                 for i, data in enumerate(parts)]
         r = self.server.post_multipart("/v1/" + op, files, fields={"lmax": "4"} if op == "describe" else None)
         body = r.json()
         h.validate("BatchResponse", body)

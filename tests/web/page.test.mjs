@@ -285,13 +285,14 @@ test('describe with a chosen Lmax and method', { skip: missing || false, timeout
 test('Models: metadata and the training report (heat map, confusion matrix, per-class scores)',
      { skip: missing || false, timeout: 120000 }, async () => {
   const report = readFileSync(join(source, 'data', 'models', 'default-report.json'), 'utf8');
-  const base = await startServer(['--default-model', 'default'], { 'default-report.json': report });
+  const base = await startServer([], { 'default-report.json': report });
+  const name = (await (await fetch(`${base}/v1/models`)).json()).default;  // the model's name (not its file's)
+  const card = `.model[data-model="${name}"]`;
   const { page, problems } = await newPage();
   await page.goto(base + '/');
-  await page.waitForSelector('.model[data-model="default"] .report-box[data-state="shown"]', { timeout: 30000 });
-  const api = await (await fetch(`${base}/v1/models/default/report`)).json();
+  await page.waitForSelector(`${card} .report-box[data-state="shown"]`, { timeout: 30000 });
+  const api = await (await fetch(`${base}/v1/models/${encodeURIComponent(name)}/report`)).json();
   assert.deepEqual(api, JSON.parse(report));  // the endpoint serves the file as written
-  const card = '.model[data-model="default"]';
 
   // The heat map: one cell per (C, gamma), each holding the JSON's mean accuracy, printed to 2 decimals; the
   // best cell outlined; the colours vary with the value (the view draws).
@@ -344,15 +345,17 @@ test('Models: metadata and the training report (heat map, confusion matrix, per-
 
 test('Models: a model without a report says so', { skip: missing || false, timeout: 120000 }, async () => {
   const base = await startServer();  // default.json alone, no default-report.json beside it
+  const name = (await (await fetch(`${base}/v1/models`)).json()).default;
+  const card = `.model[data-model="${name}"]`;
   const { page, problems } = await newPage();
   await page.goto(base + '/');
-  await page.waitForSelector('.model[data-model="default"] .report-box[data-state="absent"]', { timeout: 30000 });
-  const api = await fetch(`${base}/v1/models/default/report`);
+  await page.waitForSelector(`${card} .report-box[data-state="absent"]`, { timeout: 30000 });
+  const api = await fetch(`${base}/v1/models/${encodeURIComponent(name)}/report`);
   assert.equal(api.status, 404);
   const code = (await api.json()).error.code;
   assert.equal(code, 'report_not_found');
-  assert.equal(await page.getAttribute('.model[data-model="default"] .report-box', 'data-code'), code);
-  assert.match(await page.textContent('.model[data-model="default"] .report-box'), /No training report/);
+  assert.equal(await page.getAttribute(`${card} .report-box`, 'data-code'), code);
+  assert.match(await page.textContent(`${card} .report-box`), /No training report/);
   assert.equal(await page.locator('.model svg.heatmap').count(), 0);
   assert.deepEqual(problems, []);
   await page.close();
