@@ -133,8 +133,8 @@ class ServerVolumeTest(unittest.TestCase):
         r = self.server.post_multipart("/v1/describe", [("mesh", "cells.nii", self.nii), ("mesh2", "sphere.off", sphere)],
                                        fields={"labels": "2"})
         body = r.json()
-        # A volume parameter with a mesh part is refused for that part, not ignored.
-        self.assertEqual(r.status, 200, body)
+        # A volume parameter with a mesh part is refused for that part, not ignored: the parts differ, 207.
+        self.assertEqual(r.status, 207, body)
         h.validate("BatchResponse", body)
         vol, mesh = body["results"]
         self.assertEqual(vol["status"], 200)
@@ -144,6 +144,7 @@ class ServerVolumeTest(unittest.TestCase):
         self.assertEqual(mesh["error"]["details"]["parameter"], "labels")
         r = self.server.post_multipart("/v1/describe", [("mesh", "cells.nii", self.nii), ("mesh2", "sphere.off", sphere)])
         self.assertEqual([x["status"] for x in r.json()["results"]], [200, 200])
+        self.assertEqual(r.status, 200)
 
     def test_bad_volume_parameters(self):
         for query, parameter in (("?spacing=1,2", "spacing"), ("?spacing=1,0,1", "spacing"), ("?labels=a", "labels"),
