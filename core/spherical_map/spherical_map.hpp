@@ -223,6 +223,7 @@ struct MapAttempt {
   geometry::IntrinsicStats operator_stats;  // Added: mollification / flips of the operator this attempt used
   std::vector<FlowStepRecord> steps;
   double seconds = 0;
+  double cpu_seconds = 0;            // Added: CPU seconds of the calling thread (what the flow budget counts)
   bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
   bool map_verified = false;         // Added: the map passed verification (it may still be NotConverged)
   int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
@@ -244,7 +245,11 @@ struct SphericalMapResult {
   // Added: the operator of the returned map's attempt (mollification epsilon, zero-area faces, negative weights
   // before, flips done).
   geometry::IntrinsicStats operator_stats;
+  // Added: planned attempts of the chain that did not run because the flow budget was spent (in plan order; the
+  // running flow's own stop is its attempt's FlowStop::TimeBudget). Empty when the budget stopped nothing.
+  std::vector<MapAttemptPlan> skipped_for_budget;
   double seconds = 0;
+  double cpu_seconds = 0;            // Added: CPU seconds of the calling thread for the whole chain
   bool ok() const { return status == MapStatus::Ok; }
 };
 
