@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -46,6 +47,12 @@ std::string counts(const std::map<std::string, int>& m) {
   std::string s;
   for (const auto& [k, n] : m) s += (s.empty() ? "" : " ") + k + ":" + std::to_string(n);
   return s.empty() ? "-" : s;
+}
+
+double step_seconds(const wish::MapAttempt& a) {
+  double s = 0;
+  for (const wish::FlowStepRecord& r : a.steps) s += r.seconds;
+  return s;
 }
 
 void map_one(const std::filesystem::path& path, Row& row, Row& all) {
@@ -91,7 +98,11 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
   for (const wish::MapAttempt& a : r.attempts)
     chain += std::string(chain.empty() ? "" : " > ") + wish::to_string(a.method) + "/" + wish::to_string(a.stop) + ":" +
              std::to_string(a.quality.flipped_faces) + "+" + std::to_string(a.quality.degenerate_faces) + "/" +
-             std::to_string(a.cpu_seconds).substr(0, 4) + "s";
+             std::to_string(a.cpu_seconds).substr(0, 4) + "s" +
+             (a.quality.repaired_vertices > 0 ? " (repaired " + std::to_string(a.quality.repaired_vertices) + ")" : "") +
+             (std::getenv("WISH_BENCH_STEPS") ? " steps " + std::to_string(a.steps.size()) + " in " +
+                                                    std::to_string(step_seconds(a)).substr(0, 4) + "s wall"
+                                              : "");
   for (const wish::MapAttemptPlan& p : r.skipped_for_budget)
     chain += std::string(" > (") + wish::to_string(p.method) + " skipped: time_budget)";
   std::fprintf(stderr, "%-60s V=%7ld %-8s %-9s flips %ld degen %ld K p99 %.2f %.2fs cpu %.2fs  [%s]\n",

@@ -250,7 +250,7 @@ bool less_bad(const MapAttempt& a, const MapAttempt& b) {
 std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   // Ordered by cost. A plan is skipped at run time when it cannot help: "more steps" only after a flow that ran
   // out of steps (it continues that flow's surface instead of starting over); any flow once the flow budget is
-  // spent. The filtered Willmore flow is no fallback any more, to bound the time (it is a second full Dirac flow):
+  // spent, and every plan once it is spent while an Ok map is held (listed in skipped_for_budget). The filtered Willmore flow is no fallback any more, to bound the time (it is a second full Dirac flow):
   // ask for it with willmore.filtered.
   const int n = options.willmore.max_steps;
   const MapAttemptPlan willmore{MapMethod::Willmore, options.willmore.filtered, n};
@@ -294,7 +294,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   const Eigen::VectorXd input_mass = geometry::lumped_mass(mesh.vertices, mesh.faces);
 
   const std::vector<MapAttemptPlan> plans = plan_attempts(options);
-  // Soft budget of the flows (scaled with the mesh size); the linear attempts always run after it.
+  // Budget of the flows (scaled with the mesh size); after it, the linear attempts run only without an Ok map.
   const double budget_seconds =
       options.flow_budget_seconds * std::max(1.0, static_cast<double>(mesh.vertex_count()) / 10000.0);
   // CPU time of this thread, not wall-clock: the method a mesh ends on must not depend on the machine's load.
