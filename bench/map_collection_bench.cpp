@@ -5,9 +5,14 @@
 // / max (wall-clock seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1) and the same in CPU
 // seconds of the mapping thread (what the flow budget counts; load-independent), the method each map ended on, the
 // verdicts, and the K p99 distribution (median / p90 / max over bijective maps). Refusal codes are counted below.
+// A second table (the time bound of issue 11: the final answer within 3 CPU s per 10K vertices, scaled with
+// max(1, V/10K)): CPU s per 10K vertices median / p95 / max, meshes over 3 s per 10K, CPU median / max by the method
+// each map ended on, and how many maps a budget stopped (an attempt with stop time_budget or a skipped attempt).
+// Per mesh (stderr): the chain as run, method/stop:flips+degenerate/CPU seconds per attempt, then skipped ones.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -26,6 +31,9 @@ struct Row {
   std::string name;
   int found = 0, accepted = 0, zero_flips = 0, ok = 0;
   std::vector<double> seconds, cpu_seconds, k_p99;
+  std::vector<double> cpu_per_10k;                        // CPU s / max(1, V/10K)
+  std::map<std::string, std::vector<double>> method_cpu;  // CPU s by the method the map ended on
+  int budget_stops = 0;                                    // maps where the flow budget stopped or skipped an attempt
   std::map<std::string, int> methods, verdicts, refusals;
 };
 
@@ -39,6 +47,12 @@ std::string counts(const std::map<std::string, int>& m) {
   std::string s;
   for (const auto& [k, n] : m) s += (s.empty() ? "" : " ") + k + ":" + std::to_string(n);
   return s.empty() ? "-" : s;
+}
+
+double step_seconds(const wish::MapAttempt& a) {
+  double s = 0;
+  for (const wish::FlowStepRecord& r : a.steps) s += r.seconds;
+  return s;
 }
 
 void map_one(const std::filesystem::path& path, Row& row, Row& all) {
@@ -71,6 +85,11 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
     x->zero_flips += r.quality.flipped_faces == 0;
     x->ok += r.ok();
     if (bijective) x->k_p99.push_back(r.quality.conformal_p99);
+    x->cpu_per_10k.push_back(cpu / std::max(1.0, static_cast<double>(prepared.mesh.vertex_count()) / 1e4));
+    x->method_cpu[wish::to_string(r.method_used)].push_back(cpu);
+    bool budget_stop = !r.skipped_for_budget.empty();
+    for (const wish::MapAttempt& a : r.attempts) budget_stop = budget_stop || a.stop == wish::FlowStop::TimeBudget;
+    x->budget_stops += budget_stop;
     ++x->methods[wish::to_string(r.method_used)];
     ++x->verdicts[wish::to_string(r.verdict)];
   }
@@ -79,11 +98,34 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
   for (const wish::MapAttempt& a : r.attempts)
     chain += std::string(chain.empty() ? "" : " > ") + wish::to_string(a.method) + "/" + wish::to_string(a.stop) + ":" +
              std::to_string(a.quality.flipped_faces) + "+" + std::to_string(a.quality.degenerate_faces) + "/" +
-             std::to_string(a.seconds).substr(0, 4) + "s";
+             std::to_string(a.cpu_seconds).substr(0, 4) + "s" +
+             (a.quality.repaired_vertices > 0 ? " (repaired " + std::to_string(a.quality.repaired_vertices) + ")" : "") +
+             (std::getenv("WISH_BENCH_STEPS") ? " steps " + std::to_string(a.steps.size()) + " in " +
+                                                    std::to_string(step_seconds(a)).substr(0, 4) + "s wall"
+                                              : "");
+  for (const wish::MapAttemptPlan& p : r.skipped_for_budget)
+    chain += std::string(" > (") + wish::to_string(p.method) + " skipped: time_budget)";
   std::fprintf(stderr, "%-60s V=%7ld %-8s %-9s flips %ld degen %ld K p99 %.2f %.2fs cpu %.2fs  [%s]\n",
                path.string().c_str(), static_cast<long>(prepared.mesh.vertex_count()), wish::to_string(r.method_used),
                wish::to_string(r.verdict), r.quality.flipped_faces, r.quality.degenerate_faces,
                r.quality.conformal_p99, s, cpu, chain.c_str());
+}
+
+void print_time_bound(const Row& r) {
+  const double bound = 3.0;  // CPU s per 10K vertices (issue 11)
+  int over = 0;
+  for (double c : r.cpu_per_10k) over += c > bound;
+  std::string by_method;
+  for (const auto& [m, v] : r.method_cpu) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s%s %.2f/%.2f", by_method.empty() ? "" : ", ", m.c_str(), quantile(v, 0.5),
+                  *std::max_element(v.begin(), v.end()));
+    by_method += buf;
+  }
+  std::printf("| %-28s | %5d | %5.2f / %5.2f / %6.2f | %4d | %-50s | %4d |\n", r.name.c_str(), r.accepted,
+              quantile(r.cpu_per_10k, 0.5), quantile(r.cpu_per_10k, 0.95),
+              r.cpu_per_10k.empty() ? 0.0 : *std::max_element(r.cpu_per_10k.begin(), r.cpu_per_10k.end()), over,
+              by_method.c_str(), r.budget_stops);
 }
 
 void print(const Row& r) {
@@ -133,6 +175,10 @@ int main(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) print(r);
   if (rows.size() > 1) print(all);
+  std::printf("\n| collection | mapped | CPU s per 10K V median / p95 / max | over 3 s/10K | CPU s median/max by method ended on | budget stops |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) print_time_bound(r);
+  if (rows.size() > 1) print_time_bound(all);
   std::printf("\nrefused by validation or reading: %s\n", counts(all.refusals).c_str());
   return 0;
 }

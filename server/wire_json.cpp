@@ -101,7 +101,8 @@ nlohmann::json map_operator_json(const geometry::IntrinsicStats& s) {
 nlohmann::json map_attempt_json(const MapAttempt& a) {
   nlohmann::json out{{"method", to_string(a.method)}, {"filtered", a.filtered},
                      {"max_steps", a.max_steps},      {"status", to_string(a.status)},
-                     {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)}};
+                     {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)},
+                     {"cpu_seconds", json_number(a.cpu_seconds)}};
   if (a.failed_check != MapCheck::None) out["failed_check"] = to_string(a.failed_check);
   out["stop"] = to_string(a.stop);
   if (!a.message.empty()) out["message"] = a.message;
@@ -118,6 +119,10 @@ nlohmann::json map_block_json(const SphericalMapResult& map, bool quality) {
     out["quality"] = map_quality_json(map.quality);
     out["attempts"] = nlohmann::json::array();
     for (const auto& a : map.attempts) out["attempts"].push_back(map_attempt_json(a));
+    // Planned attempts the flow budget stopped before they ran (issue 11: no budget stop is silent).
+    out["skipped_for_budget"] = nlohmann::json::array();
+    for (const auto& p : map.skipped_for_budget)
+      out["skipped_for_budget"].push_back({{"method", to_string(p.method)}, {"max_steps", p.max_steps}});
   }
   return out;
 }

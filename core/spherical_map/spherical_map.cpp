@@ -146,6 +146,7 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
                        const Eigen::VectorXd& input_mass, const Deadline& deadline, const CpuBudget& budget,
                        const Eigen::MatrixX3d* start, Eigen::MatrixX3d& flowed, Eigen::MatrixX3d& sphere) {
   const Clock::time_point t0 = Clock::now();
+  const double cpu0 = CpuBudget::thread_cpu_seconds();
   MapAttempt attempt;
   attempt.method = plan.method;
   attempt.filtered = plan.filtered;
@@ -228,6 +229,7 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
     attempt.message = flow.message;  // e.g. "stalled: ..." — a stalled flow whose map verifies is Ok
   }
   attempt.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  attempt.cpu_seconds = CpuBudget::thread_cpu_seconds() - cpu0;
   return attempt;
 }
 
@@ -248,7 +250,7 @@ bool less_bad(const MapAttempt& a, const MapAttempt& b) {
 std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   // Ordered by cost. A plan is skipped at run time when it cannot help: "more steps" only after a flow that ran
   // out of steps (it continues that flow's surface instead of starting over); any flow once the flow budget is
-  // spent. The filtered Willmore flow is no fallback any more, to bound the time (it is a second full Dirac flow):
+  // spent, and every plan once it is spent while an Ok map is held (listed in skipped_for_budget). The filtered Willmore flow is no fallback any more, to bound the time (it is a second full Dirac flow):
   // ask for it with willmore.filtered.
   const int n = options.willmore.max_steps;
   const MapAttemptPlan willmore{MapMethod::Willmore, options.willmore.filtered, n};
@@ -287,11 +289,12 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
 
 SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOptions& options, const Deadline& deadline) {
   const Clock::time_point t0 = Clock::now();
+  const double cpu0 = CpuBudget::thread_cpu_seconds();
   check_preconditions(mesh);
   const Eigen::VectorXd input_mass = geometry::lumped_mass(mesh.vertices, mesh.faces);
 
   const std::vector<MapAttemptPlan> plans = plan_attempts(options);
-  // Soft budget of the flows (scaled with the mesh size); the linear attempts always run after it.
+  // Budget of the flows (scaled with the mesh size); after it, the linear attempts run only without an Ok map.
   const double budget_seconds =
       options.flow_budget_seconds * std::max(1.0, static_cast<double>(mesh.vertex_count()) / 10000.0);
   // CPU time of this thread, not wall-clock: the method a mesh ends on must not depend on the machine's load.
@@ -304,8 +307,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   Eigen::MatrixX3d best_sphere;
   for (size_t k = 0; k < plans.size(); ++k) {
     const MapAttemptPlan& plan = plans[k];
-    // Hopeless: a flow after the budget is spent (the linear attempts cost two V×V solves and always run).
-    if (plan.method != MapMethod::Linear && budget.expired() && !result.attempts.empty()) continue;
+    // Attempts that would repeat or cannot apply (silent: they are not part of this mesh's chain).
     const Eigen::MatrixX3d* start = nullptr;
     if (plan.continue_from >= 0) {
       const MapAttempt& previous = result.attempts[static_cast<size_t>(plan.continue_from)];
@@ -321,6 +323,17 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     if (k > 0 && plan.method == MapMethod::Cmcf && plans[k - 1].method == MapMethod::Cmcf &&
         !result.attempts.back().hit_step_cap)
       continue;
+    // The time bound (issue 11): once the flow budget is spent, no further flow starts, and when an Ok map is
+    // already held (a provisional one: repaired and distorted) nothing further runs at all — it is the answer.
+    // Without an Ok map the linear attempts still run (two V×V solves each, bijective by construction):
+    // bijectivity comes before time. Every attempt skipped here is listed in skipped_for_budget.
+    if (!result.attempts.empty() && budget.expired()) {
+      const bool holding_ok = result.attempts[static_cast<size_t>(result.chosen_attempt)].status == MapStatus::Ok;
+      if (plan.method != MapMethod::Linear || holding_ok) {
+        result.skipped_for_budget.push_back(plan);
+        continue;
+      }
+    }
     deadline.check("spherical map attempt");
     Eigen::MatrixX3d sphere;
     MapAttempt attempt = run_attempt(mesh, plan, options, input_mass, deadline, budget, start, flowed[k], sphere);
@@ -349,6 +362,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   result.operator_stats = chosen.operator_stats;
   result.method_used = chosen.method;
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  result.cpu_seconds = CpuBudget::thread_cpu_seconds() - cpu0;
   return result;
 }
 

@@ -141,13 +141,18 @@ struct SphericalMapOptions {
   // Added: the operator behind every Laplacian and mass of the flows, the Poisson step, cMCF and the linear map
   // (intrinsic_laplacian.hpp: mollified lengths + intrinsic Delaunay by default).
   geometry::IntrinsicOptions laplacian;
-  // Added: soft time budget of the FLOW attempts, in CPU seconds of the calling thread (cpu_budget.hpp: load on
-  // the machine does not change which method a mesh ends on) per 10,000 vertices (at least this many seconds).
-  // When it has passed, the running flow stops (FlowStop::TimeBudget) and its map is verified: a bijective one is
-  // the answer (Ok, distortion in the verdict); otherwise only the cheap linear attempts of the chain run. 0 = no
-  // budget. The request deadline (Deadline) is separate, hard and wall-clock. 2 s: the Willmore flow of a 10K-vertex
-  // UroCell mesh takes 1.6–3.2 CPU s to plateau; with one step past the budget, the untangling and the linear
-  // attempts the whole chain stays within the 3 s per 10K vertices of issue 11 (measured: bench/map_collection_bench).
+  // Added: time budget of the FLOW attempts, in CPU seconds of the calling thread (cpu_budget.hpp: load on the
+  // machine does not change which method a mesh ends on) per 10,000 vertices (at least this many seconds). It is
+  // checked before every step try, including the retries of a rejected step (halved τ). When it has passed, the
+  // running flow stops (FlowStop::TimeBudget) and its map is verified: a bijective one is the answer (Ok,
+  // distortion in the verdict); no further flow starts, an Ok map already held (a provisional, repaired one) ends
+  // the chain, and without an Ok map only the linear attempts run (bijectivity before time). Every attempt the
+  // budget skips is listed in SphericalMapResult::skipped_for_budget. 0 = no budget. The request deadline
+  // (Deadline) is separate, hard and wall-clock.
+  // 2 s of the 3 s per 10K vertices of issue 11: the other 1 s is the reserve for one step try past the budget,
+  // the repair and verification of the flow's map and, without an Ok map, the linear attempts. Measured
+  // (bench/map_collection_bench, CPU s): the linear attempt 0.21 s on camel (9.8K vertices); the whole chain at most
+  // 2.42 s per 10K vertices over the 43 shared genus-0 meshes (diplodocus; the baseline chain reached 3.30 on man).
   double flow_budget_seconds = 2.0;
   bool operator==(const SphericalMapOptions&) const = default;
 };
@@ -223,6 +228,7 @@ struct MapAttempt {
   geometry::IntrinsicStats operator_stats;  // Added: mollification / flips of the operator this attempt used
   std::vector<FlowStepRecord> steps;
   double seconds = 0;
+  double cpu_seconds = 0;            // Added: CPU seconds of the calling thread (what the flow budget counts)
   bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
   bool map_verified = false;         // Added: the map passed verification (it may still be NotConverged)
   int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
@@ -244,7 +250,11 @@ struct SphericalMapResult {
   // Added: the operator of the returned map's attempt (mollification epsilon, zero-area faces, negative weights
   // before, flips done).
   geometry::IntrinsicStats operator_stats;
+  // Added: planned attempts of the chain that did not run because the flow budget was spent (in plan order; the
+  // running flow's own stop is its attempt's FlowStop::TimeBudget). Empty when the budget stopped nothing.
+  std::vector<MapAttemptPlan> skipped_for_budget;
   double seconds = 0;
+  double cpu_seconds = 0;            // Added: CPU seconds of the calling thread for the whole chain
   bool ok() const { return status == MapStatus::Ok; }
 };
 

@@ -317,6 +317,19 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
           stopped = true;
           break;
         }
+        // The budget inside the rejection loop too: up to log2(tau/min_tau) ≈ 4 retries of a full step (a Dirac and
+        // a Poisson factorisation each) would otherwise run past it by up to four step costs (issue 11's time
+        // bound). The surface is the last accepted one, verified as it is.
+        if (budget.expired()) {
+          result.status = MapStatus::NotConverged;
+          result.failed_check = MapCheck::TimeBudget;
+          result.stop = FlowStop::TimeBudget;
+          result.message = "flow time budget spent in step " + std::to_string(step) + " after a rejected try (" +
+                           reject + ", tau " + std::to_string(tau * 2) + ") at roundness " +
+                           std::to_string(state.roundness);
+          stopped = true;
+          break;
+        }
         continue;
       }
       accepted = true;
