@@ -20,6 +20,7 @@
 
 #include "core/common/deadline.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
+#include "core/spherical_map/density_equalizing.hpp"
 #include "core/mesh/mesh.hpp"
 
 namespace wish {
@@ -149,6 +150,11 @@ struct SphericalMapOptions {
   // UroCell mesh takes 1.6–3.2 CPU s to plateau; with one step past the budget, the untangling and the linear
   // attempts the whole chain stays within the 3 s per 10K vertices of issue 11 (measured: bench/map_collection_bench).
   double flow_budget_seconds = 2.0;
+  // Added (beyond the paper): an area-aware correction of the returned map when it is Ok (density_equalizing.hpp):
+  // none (default: the paper's conformal map) or the density-equalising flow. The corrected map is re-verified
+  // (bijectivity: flips, degeneracy, degree); `quality` then describes the corrected map, and the conformal
+  // distortion bound (strict_conformal_bound) applies to the conformal map before the correction.
+  AreaCorrectionOptions area_correction;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 
@@ -244,6 +250,9 @@ struct SphericalMapResult {
   // Added: the operator of the returned map's attempt (mollification epsilon, zero-area faces, negative weights
   // before, flips done).
   geometry::IntrinsicStats operator_stats;
+  // Added: the area-aware correction of the returned map (stop NotRun when options.area_correction is none or the
+  // map is not Ok).
+  AreaCorrectionReport area_correction;
   double seconds = 0;
   bool ok() const { return status == MapStatus::Ok; }
 };
