@@ -15,6 +15,10 @@
 // mapped share then measures the load as much as the method.
 // --paired: every row uses only the meshes that every listed method mapped (the same meshes for every method, so
 // rows compare methods on paired data; without it a row has the meshes its own method mapped).
+// --area-correction none,dem: map variants per method (density_equalizing.hpp): "none" is the conformal map,
+// "dem" the density-equalising correction of the SAME conformal map (rows "cmcf+dem", ...; its CPU seconds and
+// area distortion before/after are summarised per row). Default: none.
+// --log off|on|both, --scale none|xi1|both: restrict the feature grid (default both, both).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -42,6 +46,8 @@
 #include "core/io/mesh_io.hpp"
 #include "core/linalg/blas_info.hpp"
 #include "core/sh/sh_fit.hpp"
+#include "core/spherical_map/density_equalizing.hpp"
+#include "core/spherical_map/map_verification.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "core/validation/mesh_report.hpp"
 
@@ -97,6 +103,7 @@ struct MethodOutcome {
   bool ok = false;
   std::string failure;  // error code / failed check
   double seconds = 0;
+  AreaCorrectionReport correction;  // variants with an area correction
   std::vector<Eigen::VectorXd> xi;  // per (nu index, lmax index): nu-major
 };
 
@@ -140,6 +147,15 @@ int main(int argc, char** argv) {
   std::string csv_out;
   bool paired = false;
   double flow_budget = SphericalMapOptions{}.flow_budget_seconds;
+  std::vector<std::string> corrections{"none"};
+  std::vector<bool> log_options{false, true}, scale_options{false, true};
+  auto on_off = [](const std::string& v, const char* off, const char* on) {
+    if (v == off) return std::vector<bool>{false};
+    if (v == on) return std::vector<bool>{true};
+    if (v == "both") return std::vector<bool>{false, true};
+    std::cerr << "expected " << off << " | " << on << " | both, got " << v << "\n";
+    std::exit(2);
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -172,6 +188,9 @@ int main(int argc, char** argv) {
     else if (a == "--csv") csv_out = next();
     else if (a == "--paired") paired = true;
     else if (a == "--flow-budget") flow_budget = std::stod(next());
+    else if (a == "--area-correction") corrections = split_list(next());
+    else if (a == "--log") log_options = on_off(next(), "off", "on");
+    else if (a == "--scale") scale_options = on_off(next(), "none", "xi1");
     else {
       std::cerr << "unknown argument " << a << "\n";
       return 2;
@@ -181,8 +200,19 @@ int main(int argc, char** argv) {
     std::cerr << "usage: descriptor_accuracy_bench --data DIR [--data DIR ...] (class folders of meshes)\n";
     return 2;
   }
+  // Columns: every (method, area correction); the corrected variants start from the same conformal map.
   std::vector<MapMethod> method_enums;
-  for (const auto& m : methods) method_enums.push_back(map_method_from_name(m));
+  std::vector<AreaCorrection> correction_enums;
+  {
+    std::vector<std::string> names;
+    for (const auto& m : methods)
+      for (const auto& c : corrections) {
+        method_enums.push_back(map_method_from_name(m));
+        correction_enums.push_back(area_correction_from_name(c));
+        names.push_back(correction_enums.back() == AreaCorrection::None ? m : m + "+dem");
+      }
+    methods = names;
+  }
   const int lmax_top = *std::max_element(lmaxes.begin(), lmaxes.end());
   (void)linalg::set_blas_threads(1);
 
@@ -221,8 +251,10 @@ int main(int argc, char** argv) {
         rec.refused = e.code();
       }
       std::string line = rec.file + ":";
+      std::optional<SphericalMapResult> conformal;  // of the previous column, when it had the same method
       for (std::size_t m = 0; m < method_enums.size() && rec.refused.empty(); ++m) {
         MethodOutcome& out = rec.methods[m];
+        if (m > 0 && method_enums[m] != method_enums[m - 1]) conformal.reset();
         SphericalMapOptions mo;
         mo.method = method_enums[m];
         mo.fallback = false;  // one method per row: no mixing
@@ -230,8 +262,23 @@ int main(int argc, char** argv) {
         mo.flow_budget_seconds = flow_budget;
         const auto t = std::chrono::steady_clock::now();
         try {
-          const SphericalMapResult map = compute_spherical_map(prepared->mesh, mo, Deadline::after(std::chrono::duration<double>(map_seconds)));
-          out.seconds = seconds_since(t);
+          if (!conformal)
+            conformal = compute_spherical_map(prepared->mesh, mo, Deadline::after(std::chrono::duration<double>(map_seconds)));
+          SphericalMapResult map = *conformal;
+          if (correction_enums[m] != AreaCorrection::None && map.ok()) {
+            // As compute_spherical_map does with options.area_correction, on the conformal map already computed.
+            const auto tc = std::chrono::steady_clock::now();
+            out.correction = spherical::equalize_sphere_density(map.sphere, prepared->mesh.vertices, prepared->mesh.faces,
+                                                                mo.area_correction, mo.verification.degenerate_height);
+            const MapQuality q = spherical::measure_map(prepared->mesh.vertices, prepared->mesh.faces, map.sphere, mo.verification);
+            if (spherical::failed_map_check(q, mo.verification) != MapCheck::None) {
+              map.status = MapStatus::VerificationFailed;
+              map.failed_check = spherical::failed_map_check(q, mo.verification);
+            }
+            out.seconds = seconds_since(tc);  // the correction's own time (the conformal map's is in its row)
+          } else {
+            out.seconds = seconds_since(t);
+          }
           if (!map.ok()) {
             out.failure = map.failed_check == MapCheck::None ? std::string(to_string(map.status)) : std::string(to_string(map.failed_check));
           } else {
@@ -269,7 +316,7 @@ int main(int argc, char** argv) {
       }
     std::printf("maps (%.0f s wall, %d jobs): %d meshes refused before mapping", seconds_since(t_maps), jobs, refused);
     for (const auto& [c, n] : refused_codes) std::printf(" [%s x%d]", c.c_str(), n);
-    std::printf("\n%-9s %7s %9s %9s %9s  %s\n", "method", "mapped", "median s", "p95 s", "max s", "failures (check x count)");
+    std::printf("\n%-12s %7s %9s %9s %9s  %s\n", "method", "mapped", "median s", "p95 s", "max s", "failures (check x count)");
     for (std::size_t m = 0; m < methods.size(); ++m) {
       std::vector<double> secs;
       std::map<std::string, int> fails;
@@ -284,8 +331,37 @@ int main(int argc, char** argv) {
       auto q = [&](double p) { return secs.empty() ? 0.0 : secs[std::min(secs.size() - 1, static_cast<std::size_t>(p * secs.size()))]; };
       std::string f;
       for (const auto& [c, n] : fails) f += c + " x" + std::to_string(n) + " ";
-      std::printf("%-9s %3d/%-3zu %9.2f %9.2f %9.2f  %s\n", methods[m].c_str(), ok, secs.size(), q(0.5), q(0.95),
+      std::printf("%-12s %3d/%-3zu %9.2f %9.2f %9.2f  %s\n", methods[m].c_str(), ok, secs.size(), q(0.5), q(0.95),
                   secs.empty() ? 0.0 : secs.back(), f.empty() ? "-" : f.c_str());
+    }
+    // ---- the area correction per corrected column: CPU s, iterations, |log area ratio| p99/max before -> after ----
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      if (correction_enums[m] == AreaCorrection::None) continue;
+      std::vector<double> cpu, iters, p99b, p99a, maxb, maxa, kb, ka;
+      std::map<std::string, int> stops;
+      for (const auto& r : records) {
+        if (!r.refused.empty() || r.methods[m].correction.method == AreaCorrection::None) continue;
+        const AreaCorrectionReport& c = r.methods[m].correction;
+        cpu.push_back(c.seconds);
+        iters.push_back(c.iterations);
+        p99b.push_back(c.before.log_ratio_p99);
+        p99a.push_back(c.after.log_ratio_p99);
+        maxb.push_back(c.before.log_ratio_max);
+        maxa.push_back(c.after.log_ratio_max);
+        ++stops[to_string(c.stop)];
+      }
+      auto med = [](std::vector<double> v, double p = 0.5) {
+        if (v.empty()) return 0.0;
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, static_cast<std::size_t>(p * v.size()))];
+      };
+      std::string st;
+      for (const auto& [k, n] : stops) st += k + " x" + std::to_string(n) + " ";
+      std::printf("%-12s correction on %zu maps: CPU s median %.2f p95 %.2f max %.2f; iterations median %.0f max %.0f; "
+                  "|log area ratio| p99 median %.2f -> %.2f, max median %.2f -> %.2f; stops: %s\n",
+                  methods[m].c_str(), cpu.size(), med(cpu), med(cpu, 0.95), cpu.empty() ? 0.0 : *std::max_element(cpu.begin(), cpu.end()),
+                  med(iters), iters.empty() ? 0.0 : *std::max_element(iters.begin(), iters.end()), med(p99b), med(p99a),
+                  med(maxb), med(maxa), st.c_str());
     }
 
     // ---- nested CV per configuration ----
@@ -299,7 +375,7 @@ int main(int argc, char** argv) {
     std::printf("\nnested CV accuracy %% (mean ± std over %d x %d outer folds; inner: 5 stratified shuffle splits, "
                 "C 1e%d..1e%d, gamma 1e%d..1e%d)\n", repeats, folds, c_range[0], c_range[1], gamma_range[0], gamma_range[1]);
     std::printf("nu = 1e-5 x factor (today: factor 1); scale: xi(l)/xi(1); global alone is on the same meshes as the row\n");
-    std::printf("%-9s %4s %7s %5s %5s %4s %12s %12s %12s\n", "method", "n", "nu x", "Lmax", "scale", "log", "xi alone",
+    std::printf("%-12s %4s %7s %5s %5s %4s %12s %12s %12s\n", "method", "n", "nu x", "Lmax", "scale", "log", "xi alone",
                 "global", "combined");
     const auto t_cv = std::chrono::steady_clock::now();
     struct Best {
@@ -314,11 +390,11 @@ int main(int argc, char** argv) {
           used.push_back(&r);
       std::map<std::string, int> per_class;
       for (const auto* r : used) ++per_class[r->label];
-      std::printf("%-9s meshes per class:", methods[m].c_str());
+      std::printf("%-12s meshes per class:", methods[m].c_str());
       for (const auto& [label, n] : per_class) std::printf(" %s %d", label.c_str(), n);
       std::printf("%s\n", paired ? " (paired: mapped by every method)" : "");
       if (per_class.size() < 2 || std::any_of(per_class.begin(), per_class.end(), [](const auto& p) { return p.second < 2; })) {
-        std::printf("%-9s %4zu  (too few mapped meshes per class for CV)\n", methods[m].c_str(), used.size());
+        std::printf("%-12s %4zu  (too few mapped meshes per class for CV)\n", methods[m].c_str(), used.size());
         continue;
       }
       auto samples_for = [&](std::size_t k) {
@@ -349,8 +425,8 @@ int main(int argc, char** argv) {
       for (std::size_t a = 0; a < nu_factors.size(); ++a)
         for (std::size_t b = 0; b < lmaxes.size(); ++b) {
           const auto samples = samples_for(a * lmaxes.size() + b);
-          for (bool scale : {false, true})
-            for (bool log : {false, true}) {
+          for (bool scale : scale_options)
+            for (bool log : log_options) {
               FeatureSpec spec;
               spec.l_min = 1;
               spec.l_max = lmaxes[b];
@@ -360,7 +436,7 @@ int main(int argc, char** argv) {
               const Score xi = run_cv(samples, spec);
               spec.family = FeatureFamily::Combined;
               const Score comb = run_cv(samples, spec);
-              std::printf("%-9s %4zu %7g %5d %5s %4s %12s %12s %12s\n", methods[m].c_str(), used.size(), nu_factors[a],
+              std::printf("%-12s %4zu %7g %5d %5s %4s %12s %12s %12s\n", methods[m].c_str(), used.size(), nu_factors[a],
                           lmaxes[b], scale ? "xi1" : "-", log ? "log" : "-", pct(xi).c_str(), pct(global).c_str(),
                           pct(comb).c_str());
               std::fflush(stdout);

@@ -33,7 +33,7 @@ struct DescribeOptions {
   std::vector<std::string> files;
   int lmax = 15;
   bool json = false, csv = false;
-  std::string method = "willmore", weights = "area", solver = "direct";
+  std::string method = "willmore", weights = "area", solver = "direct", area_correction = "none";
   double regularization = 1e-5;
   bool quiet = false;
   VolumeCliOptions volume;
@@ -144,6 +144,9 @@ CommandRunner setup_describe(CLI::App& sub) {
   sub.add_flag("--csv", options->csv, "CSV, one row per mesh, invariants as columns xi_0..xi_L")->excludes(json);
   sub.add_option("--method", options->method, "Spherical map method")
       ->check(CLI::IsMember({"willmore", "cmcf"}))->capture_default_str();
+  sub.add_option("--area-correction", options->area_correction,
+                 "After the conformal map: none (the paper's map) or density_equalizing (area-aware, beyond the paper)")
+      ->check(CLI::IsMember({"none", "density_equalizing", "dem"}))->capture_default_str();
   sub.add_option("--weights", options->weights, "Fit weights: input vertex areas or uniform (the paper)")
       ->check(CLI::IsMember({"area", "uniform"}))->capture_default_str();
   sub.add_option("--solver", options->solver, "direct (one LDLT) or banded (the paper's residual scheme)")
@@ -155,6 +158,7 @@ CommandRunner setup_describe(CLI::App& sub) {
   return [options]() {
     PipelineOptions po;
     po.map.method = map_method_from_name(options->method);
+    po.map.area_correction.method = area_correction_from_name(options->area_correction);
     po.sh.lmax = options->lmax;
     po.sh.weighting = fit_weighting_from_name(options->weights);
     po.sh.solver = fit_solver_from_name(options->solver);

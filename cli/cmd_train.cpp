@@ -53,7 +53,7 @@ struct TrainCliOptions {
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   std::uint64_t seed = 42;
   int jobs = 0;
-  std::string method = "cmcf", weights = "area", solver = "direct";
+  std::string method = "cmcf", weights = "area", solver = "direct", area_correction = "none";
   double regularization = 1e-5;
   double test_fraction = 0.2;
   std::string off_recipe = "refuse";
@@ -98,6 +98,10 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--name", o->name, "Model name")->capture_default_str();
   sub.add_option("--method", o->method, "Spherical map method of the recipe: willmore | cmcf | linear")
       ->check(CLI::IsMember({"willmore", "cmcf", "linear"}))->capture_default_str();
+  sub.add_option("--area-correction", o->area_correction,
+                 "Area-aware correction after the conformal map, part of the recipe: none (the paper's map) | "
+                 "density_equalizing (beyond the paper)")
+      ->check(CLI::IsMember({"none", "density_equalizing", "dem"}))->capture_default_str();
   sub.add_flag("--no-fallback", o->no_fallback, "Do not try other attempts/methods when the recipe's map fails");
   sub.add_option("--off-recipe", o->off_recipe,
                  "Policy for maps made by another method than --method (a fallback): refuse (the mesh is lost in "
@@ -124,6 +128,7 @@ CommandRunner setup_train(CLI::App& sub) {
     DescriptorRecipe recipe;
     recipe.map.method = map_method_from_name(o->method);
     recipe.map.fallback = !o->no_fallback;
+    recipe.map.area_correction.method = area_correction_from_name(o->area_correction);
     recipe.sh.lmax = o->lmax;
     recipe.sh.weighting = fit_weighting_from_name(o->weights);
     recipe.sh.solver = fit_solver_from_name(o->solver);

@@ -109,11 +109,32 @@ nlohmann::json map_attempt_json(const MapAttempt& a) {
   return out;
 }
 
+nlohmann::json area_distortion_json(const AreaDistortionFigures& f) {
+  return {{"log_ratio_p99", json_number(f.log_ratio_p99)},
+          {"log_ratio_max", json_number(f.log_ratio_max)},
+          {"area_distortion", json_number(f.area_distortion)}};
+}
+
+nlohmann::json area_correction_json(const AreaCorrectionReport& r) {
+  return {{"method", to_string(r.method)},
+          {"stop", to_string(r.stop)},
+          {"converged", r.converged},
+          {"iterations", r.iterations},
+          {"rejected_steps", r.rejected_steps},
+          {"before", area_distortion_json(r.before)},
+          {"after", area_distortion_json(r.after)},
+          {"conformal_p99_before", json_number(r.conformal_p99_before)},
+          {"conformal_p99_after", json_number(r.conformal_p99_after)},
+          {"seconds", json_number(r.seconds)}};
+}
+
 nlohmann::json map_block_json(const SphericalMapResult& map, bool quality) {
   nlohmann::json out{{"method", to_string(map.method_used)},
                      {"status", to_string(map.status)},
                      {"verdict", to_string(map.verdict)},
                      {"seconds", json_number(map.seconds)}};
+  // Only when an area-aware correction was asked for (the default conformal map has none).
+  if (map.area_correction.method != AreaCorrection::None) out["area_correction"] = area_correction_json(map.area_correction);
   if (quality) {
     out["operator"] = map_operator_json(map.operator_stats);
     out["quality"] = map_quality_json(map.quality);

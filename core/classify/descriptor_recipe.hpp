@@ -38,7 +38,9 @@ OffRecipePolicy off_recipe_policy_from_name(const std::string& name);  // throws
 
 struct DescriptorRecipe {
   // Version of the recipe's content (fields and their meaning); stored in the model file next to the recipe.
-  static constexpr int kVersion = 1;
+  // 1: the first; 2: map.area_correction added (absent in version 1 = none, the conformal map). Files of every
+  // version up to kVersion load (model_file.cpp); missing fields take their legacy values (descriptor_recipe_codec).
+  static constexpr int kVersion = 2;
   SphericalMapOptions map;   // method, fallback chain switch, flow parameters, verification bounds
   ShFitOptions sh;           // lmax, regularization nu, weighting, solver
   FeatureSpec features;      // xi(l_min..l_max), scale normalisation, log, family

@@ -64,6 +64,20 @@ void visit_recipe(Visitor& v, Recipe& d) {
       l.field("max_flips_per_edge", d.map.laplacian.max_flips_per_edge);
     }, d.map.laplacian, geometry::IntrinsicOptions{geometry::LaplacianKind::Extrinsic});
     m.legacy_field("flow_budget_seconds", d.map.flow_budget_seconds, 0.0);
+    // Recipe version 2: the area-aware correction after the map; files of version 1 had none (the conformal map).
+    m.legacy_group("area_correction", [&](Visitor& a) {
+      auto& o = d.map.area_correction;
+      a.enumeration("method", o.method);
+      a.field("max_iterations", o.max_iterations);
+      a.field("tolerance", o.tolerance);
+      a.field("plateau", o.plateau);
+      a.field("plateau_steps", o.plateau_steps);
+      a.field("max_energy_rise", o.max_energy_rise);
+      a.field("step", o.step);
+      a.field("max_step", o.max_step);
+      a.field("max_halvings", o.max_halvings);
+      a.field("budget_seconds", o.budget_seconds);
+    }, d.map.area_correction, AreaCorrectionOptions{});
   });
   v.group("sh", [&](Visitor& s) {
     s.field("lmax", d.sh.lmax);

@@ -146,6 +146,7 @@ struct SettingsReader {
     return scale_normalization_from_name(n);
   }
   static OffRecipePolicy enum_from_name(const std::string& n, OffRecipePolicy) { return off_recipe_policy_from_name(n); }
+  static AreaCorrection enum_from_name(const std::string& n, AreaCorrection) { return area_correction_from_name(n); }
   static geometry::LaplacianKind enum_from_name(const std::string& n, geometry::LaplacianKind) {
     return geometry::laplacian_kind_from_name(n.c_str());
   }
@@ -162,9 +163,9 @@ json recipe_to_json(const DescriptorRecipe& r) {
 
 DescriptorRecipe recipe_from_json(const json& j) {
   const std::int64_t version = integer(j, "recipe_version", "recipe");
-  if (version != DescriptorRecipe::kVersion)
+  if (version < 1 || version > DescriptorRecipe::kVersion)
     throw InvalidInputError("model_version", "descriptor recipe version " + std::to_string(version) +
-                                                 " is not supported (this build reads version " +
+                                                 " is not supported (this build reads versions 1.." +
                                                  std::to_string(DescriptorRecipe::kVersion) + ")");
   DescriptorRecipe r;
   SettingsReader reader{j, "recipe"};

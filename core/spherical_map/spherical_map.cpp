@@ -245,6 +245,37 @@ bool less_bad(const MapAttempt& a, const MapAttempt& b) {
   return p.conformal_p99 < q.conformal_p99;
 }
 
+// The area-aware correction of an Ok map (density_equalizing.hpp), re-verified: a corrected map that is not
+// bijective (it should not happen: every step is checked) is dropped and the conformal map kept (stop Reverted).
+void correct_area(const Mesh& mesh, const SphericalMapOptions& options, const Eigen::VectorXd& input_mass,
+                  SphericalMapResult& result) {
+  Eigen::MatrixX3d corrected = result.sphere;
+  AreaCorrectionReport report = spherical::equalize_sphere_density(
+      corrected, mesh.vertices, mesh.faces, options.area_correction, options.verification.degenerate_height);
+  report.conformal_p99_before = result.quality.conformal_p99;
+  MapQuality quality = spherical::measure_map(mesh.vertices, mesh.faces, corrected, options.verification);
+  MapVerificationThresholds bijective_only = options.verification;
+  bijective_only.strict_conformal_bound = false;  // the correction trades conformality for area by design
+  if (spherical::failed_map_check(quality, bijective_only) != MapCheck::None) {
+    report.stop = AreaCorrectionStop::Reverted;
+    report.converged = false;
+    report.after = report.before;
+    report.conformal_p99_after = report.conformal_p99_before;
+    result.area_correction = report;
+    return;
+  }
+  report.conformal_p99_after = quality.conformal_p99;
+  quality.repaired_vertices = result.quality.repaired_vertices;
+  quality.roundness = result.quality.roundness;
+  quality.mobius_iterations = result.quality.mobius_iterations;
+  const Eigen::VectorXd w = input_mass / input_mass.sum();
+  quality.mobius_centroid = Eigen::Vector3d(corrected.transpose() * w).norm();  // balance after the correction
+  result.sphere = std::move(corrected);
+  result.quality = quality;
+  result.verdict = quality.verdict;
+  result.area_correction = report;
+}
+
 }  // namespace
 
 std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
@@ -361,6 +392,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   result.verdict = chosen.quality.verdict;
   result.operator_stats = chosen.operator_stats;
   result.method_used = chosen.method;
+  if (options.area_correction.method != AreaCorrection::None && result.ok()) correct_area(mesh, options, input_mass, result);
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   result.cpu_seconds = CpuBudget::thread_cpu_seconds() - cpu0;
   return result;

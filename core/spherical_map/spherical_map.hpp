@@ -20,6 +20,7 @@
 
 #include "core/common/deadline.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
+#include "core/spherical_map/density_equalizing.hpp"
 #include "core/mesh/mesh.hpp"
 
 namespace wish {
@@ -154,6 +155,11 @@ struct SphericalMapOptions {
   // (bench/map_collection_bench, CPU s): the linear attempt 0.21 s on camel (9.8K vertices); the whole chain at most
   // 2.42 s per 10K vertices over the 43 shared genus-0 meshes (diplodocus; the baseline chain reached 3.30 on man).
   double flow_budget_seconds = 2.0;
+  // Added (beyond the paper): an area-aware correction of the returned map when it is Ok (density_equalizing.hpp):
+  // none (default: the paper's conformal map) or the density-equalising flow. The corrected map is re-verified
+  // (bijectivity: flips, degeneracy, degree); `quality` then describes the corrected map, and the conformal
+  // distortion bound (strict_conformal_bound) applies to the conformal map before the correction.
+  AreaCorrectionOptions area_correction;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 
@@ -253,6 +259,9 @@ struct SphericalMapResult {
   // Added: planned attempts of the chain that did not run because the flow budget was spent (in plan order; the
   // running flow's own stop is its attempt's FlowStop::TimeBudget). Empty when the budget stopped nothing.
   std::vector<MapAttemptPlan> skipped_for_budget;
+  // Added: the area-aware correction of the returned map (stop NotRun when options.area_correction is none or the
+  // map is not Ok).
+  AreaCorrectionReport area_correction;
   double seconds = 0;
   double cpu_seconds = 0;            // Added: CPU seconds of the calling thread for the whole chain
   bool ok() const { return status == MapStatus::Ok; }

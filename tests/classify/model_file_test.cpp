@@ -183,6 +183,7 @@ TEST(ModelFileMigration, FormatVersion1LoadsAndPredictsTheSame) {
   const DescriptorRecipe& r = model.recipe();
   EXPECT_EQ(r.off_recipe, OffRecipePolicy::AcceptFlagged);  // what version-1 code did with fallback maps
   EXPECT_EQ(r.map.method, MapMethod::Willmore);
+  EXPECT_EQ(r.map.area_correction.method, AreaCorrection::None);  // recipe version 2 field: the conformal map
   EXPECT_EQ(r.sh.lmax, 5);
   EXPECT_EQ(r.sh.regularization, 1e-5);
   EXPECT_EQ(r.features.l_max, 5);
