@@ -72,7 +72,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     };
     auto fail = [&](nlohmann::json& r, const std::string& what, const WishError& e) {
       ok = false;
-      r["error"] = {{"code", e.code()}, {"message", e.what()}};
+      r["error"] = wire::error_entry_json(e);  // the shape of every CLI error row: code, category, message, details
       if (!o->json) std::cerr << "wish predict: " << what << ": error [" << e.code() << "] " << e.what() << "\n";
     };
     if (!o->descriptors.empty()) {

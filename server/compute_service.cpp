@@ -3,8 +3,8 @@
 #include "core/pipeline/pipeline.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/loaded_model.hpp"
-#include "server/result_json.hpp"
-#include "server/volume_result_json.hpp"
+#include "wire/result_json.hpp"
+#include "wire/volume_result_json.hpp"
 
 namespace wish::server {
 
