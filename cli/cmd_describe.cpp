@@ -22,6 +22,7 @@
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "server/error_mapping.hpp"
+#include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
 
 namespace wish::cli {

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
+#include "wire/error_json.hpp"
 #include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"

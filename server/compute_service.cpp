@@ -8,6 +8,11 @@
 
 namespace wish::server {
 
+using wire::ResultJsonOptions;
+using wire::result_json;
+using wire::volume_object_json;
+using wire::volume_summary_json;
+
 namespace {
 
 double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {

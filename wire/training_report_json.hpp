@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/classify/dataset.hpp"
+#include "core/classify/feature_pipeline.hpp"
 #include "core/classify/training.hpp"
 
 namespace wish::wire {
