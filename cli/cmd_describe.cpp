@@ -1,7 +1,7 @@
 // `wish describe FILE... --lmax L [--json|--csv] [--method willmore|cmcf] [--weights area|uniform]`:
 // mesh -> validate/repair -> spherical map -> SH fit -> invariants, with the timings of every stage.
 //   default: a short table per file;  --json: an array, one object per file, its "descriptor", "map" and "timings"
-//   blocks in the service's layout (server/wire_json.hpp: the same encoders as /v1/describe);  --csv: one row per mesh: file, n_vertices, n_faces, map method/status, fit errors,
+//   blocks in the service's layout (wire/wire_json.hpp: the same encoders as /v1/describe);  --csv: one row per mesh: file, n_vertices, n_faces, map method/status, fit errors,
 //   timings, xi_0..xi_L (what a notebook wants).
 // A label volume (NIfTI-1, TIFF; by content; the volume options of `wish mesh-labels`) gives one result per kept
 // object, keyed by label id ("label_id"; JSON also an "object" block; CSV column label_id, empty for meshes).
@@ -22,12 +22,13 @@
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "server/error_mapping.hpp"
-#include "server/wire_json.hpp"
+#include "wire/error_json.hpp"
+#include "wire/wire_json.hpp"
 
 namespace wish::cli {
 namespace {
 
-using server::json_number_or_nan;
+using wire::json_number_or_nan;
 
 struct DescribeOptions {
   std::vector<std::string> files;
@@ -43,12 +44,12 @@ struct DescribeOptions {
 void describe_into(nlohmann::json& out, const PipelineResult& r) {
   out["n_vertices"] = r.prepared.mesh.vertex_count();
   out["n_faces"] = r.prepared.mesh.face_count();
-  out["map"] = server::map_block_json(r.map, /*quality=*/true);
+  out["map"] = wire::map_block_json(r.map, /*quality=*/true);
   // Kept at the top of "map" for scripts written against earlier versions (also in "map.quality").
   out["map"]["flipped_faces"] = r.map.quality.flipped_faces;
-  out["map"]["conformal_p99"] = server::json_number(r.map.quality.conformal_p99);
-  out["descriptor"] = server::descriptor_json(r.sh);
-  out["timings"] = server::timings_json(r.timings);
+  out["map"]["conformal_p99"] = wire::json_number(r.map.quality.conformal_p99);
+  out["descriptor"] = wire::descriptor_json(r.sh);
+  out["timings"] = wire::timings_json(r.timings);
 }
 
 // One row for a mesh file; one per kept object for a label volume (format by content; cli/volume_rows.hpp).
@@ -56,7 +57,7 @@ void describe_file(const std::string& file, const PipelineOptions& options, cons
                    bool& ok, std::vector<nlohmann::json>& rows) {
   auto fail = [&ok](nlohmann::json& row, const WishError& e) {
     ok = false;
-    row["error"] = server::error_entry_json(e);
+    row["error"] = wire::error_entry_json(e);
   };
   nlohmann::json out = {{"file", file}};
   try {

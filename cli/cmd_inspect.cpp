@@ -1,6 +1,7 @@
 // `wish inspect FILE... [--json]`: reads each mesh, repairs the harmless defects and reports whether it can be
 // mapped to the sphere. Exit status 0 when every file is valid and mappable, 1 otherwise (a file that cannot be read
 // counts as invalid and is reported in line, so one bad file does not hide the others).
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -16,40 +17,36 @@
 #include "core/io/mesh_io.hpp"
 #include "core/validation/mesh_report.hpp"
 #include "server/error_mapping.hpp"
-#include "server/wire_json.hpp"
+#include "wire/error_json.hpp"
+#include "wire/wire_json.hpp"
 
 namespace wish::cli {
 namespace {
 
-using server::json_number_or_nan;
+using wire::json_number_or_nan;
 
 struct InspectOptions {
   std::vector<std::string> files;
   bool json = false;
 };
 
-// One file: {"file", "valid", and either "error" or "format", "encoding", "notes", "input_report", "report",
-// "repairs", "issues"}. The reports, repairs, issues and errors use the service's encoders (server/wire_json.hpp,
-// server/error_mapping.hpp), so they have the shapes of proto/openapi.json.
+// One file: {"file", "valid", and either "error" or "encoding", "mesh" (the service's MeshBlock: format, bytes,
+// read_notes, input and prepared reports, repairs) and "issues"}. Every block uses the wire encoders
+// (wire/wire_json.hpp, wire/error_json.hpp), so a file inspected here reads like the service's answer.
 nlohmann::json inspect_file(const std::string& file) {
   nlohmann::json out = {{"file", file}};
   try {
     const ReadResult read = read_mesh_file(file);
     const PreparedMesh prepared = prepare_for_mapping(read.mesh);
     out["valid"] = prepared.mappable();
-    out["format"] = to_string(read.format);
     out["encoding"] = read.encoding == MeshEncoding::Ascii ? "ascii"
                       : read.encoding == MeshEncoding::BinaryBigEndian ? "binary_big_endian" : "binary_little_endian";
-    out["notes"] = read.notes;
-    out["input_report"] = server::mesh_report_json(prepared.input_report);
-    out["report"] = server::mesh_report_json(prepared.report);
-    out["repairs"] = nlohmann::json::array();
-    for (const auto& r : prepared.repairs) out["repairs"].push_back(server::repair_json(r));
+    out["mesh"] = wire::mesh_block_json(prepared, read.format, std::filesystem::file_size(file), read.notes);
     out["issues"] = nlohmann::json::array();
-    for (const auto& i : prepared.issues) out["issues"].push_back(server::issue_json(i));
+    for (const auto& i : prepared.issues) out["issues"].push_back(wire::issue_json(i));
   } catch (const WishError& e) {
     out["valid"] = false;
-    out["error"] = server::error_entry_json(e);
+    out["error"] = wire::error_entry_json(e);
   }
   return out;
 }
@@ -60,10 +57,11 @@ void print_table(const nlohmann::json& result, std::ostream& os) {
     os << "  error [" << result["error"]["code"].get<std::string>() << "] " << result["error"]["message"].get<std::string>() << "\n";
     return;
   }
-  const auto& r = result["report"];
+  const auto& mesh = result["mesh"];
+  const auto& r = mesh["prepared"];
   const auto row = [&](const char* label, const std::string& value) { os << "  " << std::left << std::setw(27) << label << value << "\n"; };
   const auto num = [&](const char* key) { return r[key].dump(); };
-  row("format", result["format"].get<std::string>() + " (" + result["encoding"].get<std::string>() + ")");
+  row("format", mesh["format"].get<std::string>() + " (" + result["encoding"].get<std::string>() + ")");
   row("vertices / edges / faces", num("vertices") + " / " + num("edges") + " / " + num("faces"));
   row("components", num("components"));
   row("boundary edges", num("boundary_edges"));
@@ -88,8 +86,8 @@ void print_table(const nlohmann::json& result, std::ostream& os) {
   box << " - ";
   xyz(r["bbox_max"]);
   row("bounding box", box.str());
-  for (const auto& note : result["notes"]) os << "  note:   " << note.get<std::string>() << "\n";
-  for (const auto& repair : result["repairs"])
+  for (const auto& note : mesh["read_notes"]) os << "  note:   " << note.get<std::string>() << "\n";
+  for (const auto& repair : mesh["repairs"])
     os << "  repair: [" << repair["code"].get<std::string>() << "] " << repair["message"].get<std::string>() << "\n";
   for (const auto& issue : result["issues"])
     os << "  issue:  [" << issue["code"].get<std::string>() << "] " << issue["message"].get<std::string>() << "\n";

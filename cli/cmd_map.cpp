@@ -13,7 +13,7 @@
 #include "core/common/deadline.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/spherical_map/spherical_map.hpp"
-#include "server/wire_json.hpp"
+#include "wire/wire_json.hpp"
 #include "core/validation/mesh_report.hpp"
 
 namespace wish::cli {
@@ -31,45 +31,19 @@ struct MapArgs {
   double timeout = 0;      // seconds; 0 = none
 };
 
-nlohmann::json quality_json(const MapQuality& q) {
-  return {{"flipped_faces", q.flipped_faces},     {"degenerate_faces", q.degenerate_faces},
-          {"degree", q.degree},                   {"min_face_area", q.min_face_area},
-          {"conformal_mean", q.conformal_mean},   {"conformal_p99", q.conformal_p99},
-          {"conformal_max", q.conformal_max},     {"area_distortion", q.area_distortion},
-          {"roundness", q.roundness},             {"mobius_centroid", q.mobius_centroid},
-          {"mobius_iterations", q.mobius_iterations}, {"min_face_height", q.min_face_height},
-          {"repaired_vertices", q.repaired_vertices}};
-}
-
+// The wire's map block (what the service sends, with the flow trace of every attempt) and the CLI's own fields.
 nlohmann::json result_json(const SphericalMapResult& r, const PreparedMesh& prepared, const MapArgs& args) {
-  nlohmann::json attempts = nlohmann::json::array();
-  for (const MapAttempt& a : r.attempts) {
-    nlohmann::json steps = nlohmann::json::array();
-    for (const FlowStepRecord& s : a.steps)
-      steps.push_back({{"step", s.step}, {"tau", s.tau}, {"energy", s.energy}, {"roundness", s.roundness},
-                       {"eigen_residual", s.eigen_residual}, {"accepted", s.accepted}, {"seconds", s.seconds},
-                       {"note", s.note}});
-    attempts.push_back({{"method", to_string(a.method)}, {"filtered", a.filtered}, {"max_steps", a.max_steps},
-                        {"status", to_string(a.status)}, {"failed_check", to_string(a.failed_check)}, {"stop", to_string(a.stop)}, {"message", a.message},
-                        {"quality", quality_json(a.quality)}, {"steps", steps}, {"seconds", a.seconds},
-                        {"map_verified", a.map_verified}});
-  }
+  nlohmann::json out = wire::map_block_json(r, /*quality=*/true, /*trace=*/true);
   nlohmann::json repairs = nlohmann::json::array();
-  for (const RepairAction& a : prepared.repairs) repairs.push_back({{"code", a.code}, {"message", a.message}});
-  return {{"input", args.input},
-          {"output", r.ok() ? args.output : ""},
-          {"vertices", prepared.mesh.vertex_count()},
-          {"faces", prepared.mesh.face_count()},
-          {"repairs", repairs},
-          {"status", to_string(r.status)},
-          {"failed_check", to_string(r.failed_check)},
-          {"verdict", to_string(r.verdict)},
-          {"operator", server::map_operator_json(r.operator_stats)},
-          {"method", to_string(r.method_used)},
-          {"quality", quality_json(r.quality)},
-          {"attempts", attempts},
-          {"chosen_attempt", r.chosen_attempt},
-          {"seconds", r.seconds}};
+  for (const RepairAction& a : prepared.repairs) repairs.push_back(wire::repair_json(a));
+  out["input"] = args.input;
+  out["output"] = r.ok() ? args.output : "";
+  out["vertices"] = prepared.mesh.vertex_count();
+  out["faces"] = prepared.mesh.face_count();
+  out["repairs"] = repairs;
+  out["failed_check"] = to_string(r.failed_check);
+  out["chosen_attempt"] = r.chosen_attempt;
+  return out;
 }
 
 void print_text(const SphericalMapResult& r, const PreparedMesh& prepared, const MapArgs& args) {

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
+#include "wire/error_json.hpp"
 #include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"
@@ -72,7 +73,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     };
     auto fail = [&](nlohmann::json& r, const std::string& what, const WishError& e) {
       ok = false;
-      r["error"] = {{"code", e.code()}, {"message", e.what()}};
+      r["error"] = wire::error_entry_json(e);  // the shape of every CLI error row: code, category, message, details
       if (!o->json) std::cerr << "wish predict: " << what << ": error [" << e.code() << "] " << e.what() << "\n";
     };
     if (!o->descriptors.empty()) {

@@ -1,5 +1,5 @@
 // `wish reconstruct DESCRIPTOR.json [--level 5] --out shape.ply [--index I]`: evaluates the SH surface of a
-// descriptor (server/wire_json.hpp layout: one entry / the I-th entry of `wish describe --json` output, or a
+// descriptor (wire/wire_json.hpp layout: one entry / the I-th entry of `wish describe --json` output, or a
 // /v1/describe response with include=coefficients) on a subdivided icosahedron (level 0..7: 10*4^level + 2
 // vertices) and writes it (format from the extension: .ply binary, .obj, .off, .stl).
 #include <fstream>
@@ -14,7 +14,7 @@
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/sh/sh_reconstruction.hpp"
-#include "server/wire_json.hpp"
+#include "wire/wire_json.hpp"
 
 namespace wish::cli {
 namespace {
@@ -50,7 +50,7 @@ CommandRunner setup_reconstruct(CLI::App& sub) {
     }
     if (json.is_object() && json.contains("error"))
       throw InvalidInputError("invalid_descriptor", "the selected entry is a failed describe result");
-    const ShDescriptor d = server::descriptor_from_json(json);
+    const ShDescriptor d = wire::descriptor_from_json(json);
     const Mesh mesh = reconstruct_on_icosphere(d, options->level);
     write_mesh_file(mesh, options->out);
     std::cout << "wrote " << options->out << ": " << mesh.vertex_count() << " vertices, " << mesh.face_count()

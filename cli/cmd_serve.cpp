@@ -1,82 +1,55 @@
-// `wish serve [--models DIR] --port 8080 ...`: the HTTP service (server/). Every option also reads a WISH_*
-// environment variable (CLI11 envname); a flag given on the command line wins over the environment.
+// `wish serve [--models DIR] --port 8080 ...`: runs the HTTP service. The service is its own executable,
+// `wish-server` (server/bin/main.cpp, built next to `wish`), so `wish` links no HTTP code; this command replaces the
+// process with it (exec: same pid, same blocked signals, same environment — a container's PID 1 stays the server).
+// Every argument after `serve` goes to it unchanged; `wish serve --help` lists the service's options.
+// WISH_SERVER_BIN overrides where the service executable is looked up.
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "cli/command_registry.hpp"
-#include "server/config.hpp"
-#include "server/run_server.hpp"
 
 namespace wish::cli {
 namespace {
 
+std::filesystem::path server_executable() {
+  if (const char* env = std::getenv("WISH_SERVER_BIN"); env && *env) return env;
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return (ec ? std::filesystem::path("wish") : self).parent_path() / "wish-server";
+}
+
 CommandRunner setup_serve(CLI::App& sub) {
-  auto config = std::make_shared<server::ServerConfig>();
-  auto& c = *config;
-  // The options write into objects that outlive setup (the runner is called after parsing).
-  auto models_dir = std::make_shared<std::string>(WISH_MODELS_DIR_DEFAULT);
-  sub.add_option("--models", *models_dir,
-                 "Directory of *.json classifier models (reloaded on SIGHUP); default: the bundled default model")
-      ->envname("WISH_MODELS")
-      ->capture_default_str();
-  sub.add_option("--host", c.host, "Listen address")->envname("WISH_HOST")->capture_default_str();
-  sub.add_option("--port", c.port, "Listen port (0: any free port, logged at start)")->envname("WISH_PORT")
-      ->capture_default_str();
-  sub.add_option("--default-model", c.default_model, "Model used when a classify request names none")
-      ->envname("WISH_DEFAULT_MODEL")->capture_default_str();
-  sub.add_option("--max-upload-bytes", c.max_upload_bytes, "Largest request body (413 above)")
-      ->envname("WISH_MAX_UPLOAD_BYTES")->capture_default_str();
-  sub.add_option("--max-vertices", c.max_vertices, "Most vertices per mesh (413 above)")
-      ->envname("WISH_MAX_VERTICES")->capture_default_str();
-  sub.add_option("--max-faces", c.max_faces, "Most triangles per mesh (413 above)")
-      ->envname("WISH_MAX_FACES")->capture_default_str();
-  sub.add_option("--max-lmax", c.max_lmax, "Largest Lmax a request may ask for (413 above)")
-      ->envname("WISH_MAX_LMAX")->capture_default_str();
-  sub.add_option("--max-parts", c.max_parts, "Most mesh parts in one multipart request (413 above)")
-      ->envname("WISH_MAX_PARTS")->capture_default_str();
-  sub.add_option("--max-steps", c.max_steps, "Largest flow step cap a request may ask for (413 above)")
-      ->envname("WISH_MAX_STEPS")->capture_default_str();
-  sub.add_option("--time-limit", c.time_limit_seconds, "Seconds per request, queue wait included (504 past it)")
-      ->envname("WISH_TIME_LIMIT")->capture_default_str();
-  sub.add_option("--max-volume-voxels", c.max_volume_voxels, "Most voxels in one uploaded label volume (413 above)")
-      ->envname("WISH_MAX_VOLUME_VOXELS")->capture_default_str();
-  sub.add_option("--max-volume-objects", c.max_volume_objects, "Most objects in one uploaded label volume (413 above)")
-      ->envname("WISH_MAX_VOLUME_OBJECTS")->capture_default_str();
-  sub.add_option("--volume-time-limit", c.volume_time_limit_seconds,
-                 "Seconds per request that uploads a label volume, queue wait included (504 past it)")
-      ->envname("WISH_VOLUME_TIME_LIMIT")->capture_default_str();
-  sub.add_option("--queue-size", c.queue_size, "Jobs waiting for a worker (503 + Retry-After beyond)")
-      ->envname("WISH_QUEUE_SIZE")->capture_default_str();
-  sub.add_option("--workers", c.workers, "Compute workers (0: number of cores)")->envname("WISH_WORKERS")
-      ->capture_default_str();
-  sub.add_option("--http-threads", c.http_threads,
-                 "Most HTTP connection threads, started on demand, one per open connection (0: 1024)")
-      ->envname("WISH_HTTP_THREADS")->capture_default_str();
-  sub.add_option("--read-timeout", c.read_timeout_seconds,
-                 "Seconds a connection may send nothing (headers or body) before it is dropped")
-      ->envname("WISH_READ_TIMEOUT")->capture_default_str();
-  sub.add_option("--shutdown-grace", c.shutdown_grace_seconds, "Seconds to finish in-flight requests on SIGTERM")
-      ->envname("WISH_SHUTDOWN_GRACE")->capture_default_str();
-  sub.add_option("--retry-after", c.retry_after_seconds, "Retry-After seconds sent with 503")
-      ->envname("WISH_RETRY_AFTER")->capture_default_str();
-  c.web_dir = WISH_WEB_DIR_DEFAULT;
-  sub.add_option("--web-dir", c.web_dir, "Directory of the web page served at GET / ('' for none)")
-      ->envname("WISH_WEB_DIR")->capture_default_str();
-  sub.add_option("--auth-token", c.auth_token, "Require 'Authorization: Bearer TOKEN' on /v1/* (prefer the env var)")
-      ->envname("WISH_AUTH_TOKEN");
-  sub.add_flag("--json-log", c.json_log, "One JSON object per log line")->envname("WISH_JSON_LOG");
-  sub.add_option("--log-level", c.log_level, "trace, debug, info, warn, error")->envname("WISH_LOG_LEVEL")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))->capture_default_str();
-  return [config, models_dir] {
-    config->models_dir = *models_dir;
-    return server::run_server(*config);
+  // Nothing is parsed here: the service owns its options (and --help), so they are documented in one place.
+  sub.set_help_flag();
+  sub.allow_extras();
+  sub.prefix_command();
+  return [&sub] {
+    const std::filesystem::path exe = server_executable();
+    std::vector<std::string> args{exe.string()};
+    for (const auto& a : sub.remaining()) args.push_back(a);
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(exe.c_str(), argv.data());
+    std::cerr << "wish serve: cannot run the service executable " << exe << ": " << std::strerror(errno)
+              << " (it is built next to `wish` as wish-server; WISH_SERVER_BIN names another)\n";
+    return kExitError;
   };
 }
 
 const bool registered = register_command(
-    {"serve", "Run the HTTP service (classify / describe over REST) on a worker pool", &setup_serve, 70,
-     /*takes_signals=*/true});
+    {"serve", "Run the HTTP service (classify / describe over REST) on a worker pool; `wish serve --help` for options",
+     &setup_serve, 70, /*takes_signals=*/true});
 
 }  // namespace
 }  // namespace wish::cli

@@ -38,6 +38,7 @@
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/pipeline/training_set.hpp"
+#include "wire/training_report_json.hpp"
 
 namespace wish::cli {
 namespace {
@@ -67,12 +68,6 @@ struct TrainCliOptions {
 
 void print_progress(const std::string& line, bool lost, bool quiet) {
   if (!quiet || lost) std::cerr << line << "\n";
-}
-
-nlohmann::json summary_row(const FamilyScore& f) {
-  return {{"family", f.family},        {"features", f.features},          {"best_C", f.C},
-          {"best_gamma", f.gamma},     {"grid_score", f.grid_score},      {"test_accuracy", f.test_accuracy},
-          {"nested_cv_mean", f.nested_mean}, {"nested_cv_std", f.nested_std}};
 }
 
 CommandRunner setup_train(CLI::App& sub) {
@@ -235,23 +230,19 @@ CommandRunner setup_train(CLI::App& sub) {
                                          std::cerr << "comparison: training with features " << family << "\n";
                                        })
             : std::vector<FamilyScore>{family_score(o->features, result.report)};
-    nlohmann::json comparison = nlohmann::json::array();
-    for (const auto& f : families) comparison.push_back(summary_row(f));
 
     std::cout << training_report_table(result.report) << "\n";
     std::cout << "feature family comparison (same splits and seed):\n";
     std::cout << std::left << std::setw(12) << "features" << std::right << std::setw(6) << "dim" << std::setw(9) << "C"
               << std::setw(9) << "gamma" << std::setw(8) << "grid" << std::setw(8) << "test" << std::setw(18) << "nested CV"
               << "\n";
-    for (const auto& row : comparison) {
+    for (const FamilyScore& row : families) {
       std::ostringstream cv;
-      cv << std::fixed << std::setprecision(3) << row["nested_cv_mean"].get<double>() << " +- "
-         << row["nested_cv_std"].get<double>();
-      std::cout << std::left << std::setw(12) << row["family"].get<std::string>() << std::right << std::setw(6)
-                << row["features"].get<std::size_t>() << std::setw(9) << std::setprecision(1) << std::scientific
-                << row["best_C"].get<double>() << std::setw(9) << row["best_gamma"].get<double>() << std::fixed
-                << std::setprecision(3) << std::setw(8) << row["grid_score"].get<double>() << std::setw(8)
-                << row["test_accuracy"].get<double>() << std::setw(18) << cv.str() << "\n";
+      cv << std::fixed << std::setprecision(3) << row.nested_mean << " +- " << row.nested_std;
+      std::cout << std::left << std::setw(12) << row.family << std::right << std::setw(6) << row.features
+                << std::setw(9) << std::setprecision(1) << std::scientific << row.C << std::setw(9) << row.gamma
+                << std::fixed << std::setprecision(3) << std::setw(8) << row.grid_score << std::setw(8)
+                << row.test_accuracy << std::setw(18) << cv.str() << "\n";
       std::cout.unsetf(std::ios::floatfield);
     }
     std::cout << "model: " << o->out << " (" << result.model.classes().size() << " classes, sha256 "
@@ -260,16 +251,8 @@ CommandRunner setup_train(CLI::App& sub) {
       std::cout << "skipped: " << failures.size() << " failed meshes, " << unlabelled.size() << " unlabelled rows (see stderr)\n";
 
     if (!o->report.empty()) {
-      nlohmann::json rep = nlohmann::json::parse(training_report_json(result.report));
-      rep["input"] = o->input;
-      rep["model_file"] = o->out;
-      rep["model_sha256"] = result.model.payload_sha256();
-      rep["comparison"] = comparison;
-      nlohmann::json skipped = nlohmann::json::array();
-      for (const auto& f : failures)
-        skipped.push_back({{"file", f.id}, {"label", f.label}, {"code", f.code}, {"message", f.message}});
-      for (const auto& f : unlabelled) skipped.push_back({{"file", f}, {"code", "no_label"}, {"message", "no label"}});
-      rep["skipped"] = skipped;
+      const nlohmann::json rep = wire::training_run_json(
+          result.report, {o->input, o->out, result.model.payload_sha256(), families, failures, unlabelled});
       std::ofstream(o->report) << rep.dump(2) << "\n";
     }
     if (!o->heatmap.empty())

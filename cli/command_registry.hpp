@@ -21,7 +21,7 @@ struct Command {
   CommandRunner (*setup)(CLI::App& sub);
   int order = 100;  // position in --help
   // true: the command takes SIGHUP / SIGTERM / SIGINT itself with sigwait and keeps them blocked in every thread
-  // (cli/signal_mask.hpp); false: they are unblocked before it runs (default actions).
+  // (core/common/process_signals.hpp); false: they are unblocked before it runs (default actions).
   bool takes_signals = false;
 };
 

@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/command_registry.hpp"
-#include "cli/signal_mask.hpp"
 #include "core/common/errors.hpp"
+#include "core/common/process_signals.hpp"
 
 namespace wish::cli {
 
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   try {
     for (auto& [sub, run, takes_signals] : runners) {
       if (!sub->parsed()) continue;
-      if (!takes_signals) unblock_process_signals();
+      if (!takes_signals) wish::unblock_process_signals();
       return run();
     }
   } catch (const wish::WishError& e) {

@@ -3,10 +3,15 @@
 #include "core/pipeline/pipeline.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/loaded_model.hpp"
-#include "server/result_json.hpp"
-#include "server/volume_result_json.hpp"
+#include "wire/result_json.hpp"
+#include "wire/volume_result_json.hpp"
 
 namespace wish::server {
+
+using wire::ResultJsonOptions;
+using wire::result_json;
+using wire::volume_object_json;
+using wire::volume_summary_json;
 
 namespace {
 

@@ -3,25 +3,13 @@
 #include <atomic>
 #include <new>
 
+#include "wire/error_json.hpp"
+
 namespace wish::server {
 
 namespace {
 std::atomic<int> g_retry_after{1};
 }  // namespace
-
-nlohmann::json details_json(const ErrorDetails& details) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const auto& [key, value] : details)
-    std::visit([&](const auto& v) { out[key] = v; }, value);
-  return out;
-}
-
-nlohmann::json error_entry_json(const WishError& error) {
-  return {{"code", error.code()},
-          {"category", to_string(error.category())},
-          {"message", error.what()},
-          {"details", details_json(error.details())}};
-}
 
 void set_retry_after_seconds(int seconds) { g_retry_after = seconds > 0 ? seconds : 1; }
 
@@ -45,7 +33,7 @@ ApiError to_api_error(const WishError& error) {
   out.status = http_status(error.category());
   out.code = error.code().empty() ? to_string(error.category()) : error.code();
   out.message = error.what();
-  out.details = details_json(error.details());
+  out.details = wire::details_json(error.details());
   if (out.status == 503) out.retry_after_seconds = g_retry_after.load();
   return out;
 }

@@ -38,12 +38,6 @@ ApiError route_not_found_error(const std::string& method, const std::string& pat
 ApiError method_not_allowed_error(const std::string& method, const std::string& path, const std::string& allow);
 ApiError status_error(int status);  // a bare status from the HTTP library (e.g. 413 payload, 400 framing)
 
-// The one JSON encoding of ErrorDetails (ErrorDetailValue: integer, number or string per key), for the service's
-// error bodies, validation issues (wire_json.hpp) and the CLI.
-nlohmann::json details_json(const ErrorDetails& details);
-// A failed file in the CLI's JSON output (`wish inspect`, `wish describe`): {"code", "category", "message", "details"}.
-nlohmann::json error_entry_json(const WishError& error);
-
 nlohmann::json error_object(const ApiError& error);  // {"code", "message", "details"}
 nlohmann::json error_body(const ApiError& error, const std::string& request_id);
 

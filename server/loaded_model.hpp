@@ -20,7 +20,4 @@ struct LoadedModel {
   nlohmann::json info;  // ModelInfo, built once at load
 };
 
-// Steps of the flow step cap of the model's map method (what a request's `steps` is compared with).
-int model_steps(const DescriptorRecipe& recipe);
-
 }  // namespace wish::server

@@ -10,6 +10,7 @@
 
 #include "core/classify/feature_pipeline.hpp"
 #include "server/loaded_model.hpp"
+#include "wire/model_json.hpp"
 
 namespace wish::server {
 
@@ -18,75 +19,6 @@ struct ModelRegistry::Snapshot {
   std::map<std::string, std::shared_ptr<const LoadedModel>> by_file;  // file name -> model
   std::string default_name;
 };
-
-namespace {
-
-std::string now_iso8601() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
-// ln xi(l), l = 1..Lmax, per class (ClassSpectrum): what a client draws a shape's spectrum against.
-nlohmann::json class_spectra_json(const std::vector<ClassSpectrum>& spectra) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& c : spectra)
-    out.push_back({{"label", c.label}, {"count", c.count}, {"l_min", 1}, {"log_xi_mean", c.log_xi_mean},
-                   {"log_xi_std", c.log_xi_std}});
-  return out;
-}
-
-nlohmann::json build_info(const ClassifierModel& m, const std::filesystem::path& file) {
-  const auto& ds = m.recipe();
-  const auto& fs = m.feature_spec();
-  const auto& ts = m.training_summary();
-  return {
-      {"name", m.name()},
-      {"version", m.version()},
-      {"file", file.filename().string()},
-      {"loaded_at", now_iso8601()},
-      {"classes", m.classes()},
-      {"descriptor_settings",
-       {{"lmax", ds.sh.lmax},
-        {"method", to_string(ds.map.method)},
-        {"steps", model_steps(ds)},
-        {"regularization", ds.sh.regularization},
-        {"weighting", to_string(ds.sh.weighting)},
-        {"solver", to_string(ds.sh.solver)},
-        {"tau", ds.map.willmore.tau},
-        {"filtered", ds.map.willmore.filtered},
-        {"fallback", ds.map.fallback},
-        {"off_recipe", to_string(ds.off_recipe)}}},
-      {"recipe", nlohmann::json::parse(descriptor_recipe_json_text(ds))},
-      {"feature_spec",
-       {{"family", to_string(fs.family)},
-        {"l_min", fs.l_min},
-        {"l_max", fs.l_max},
-        {"scale", to_string(fs.scale)},
-        {"log_transform", fs.log_transform}}},
-      {"training_summary",
-       {{"dataset_sha256", ts.dataset_sha256},
-        {"trained_at", ts.trained_at},
-        {"samples", ts.samples},
-        {"best_c", ts.best_c},
-        {"best_gamma", ts.best_gamma},
-        {"grid_score", ts.grid_score},
-        {"test_accuracy", ts.test_accuracy},
-        {"nested_cv_mean", ts.nested_cv_mean},
-        {"nested_cv_std", ts.nested_cv_std},
-        {"notes", ts.notes},
-        {"class_spectra", class_spectra_json(ts.class_spectra)}}},
-  };
-}
-
-}  // namespace
-
-int model_steps(const DescriptorRecipe& recipe) {
-  return recipe.map.method == MapMethod::Cmcf ? recipe.map.cmcf.max_steps : recipe.map.willmore.max_steps;
-}
 
 const nlohmann::json& model_info(const LoadedModel& model) { return model.info; }
 const std::string& model_name(const LoadedModel& model) { return model.model.name(); }
@@ -158,7 +90,7 @@ ReloadReport ModelRegistry::reload() {
     } else {
       try {
         auto loaded = std::make_shared<LoadedModel>(LoadedModel{ClassifierModel::load(path), path, mtime, size, {}});
-        loaded->info = build_info(loaded->model, path);
+        loaded->info = wire::model_info_json(loaded->model, path);
         model = std::move(loaded);
         spdlog::info("models: loaded '{}' version {} from {}", model->model.name(), model->model.version(), file);
       } catch (const std::exception& e) {

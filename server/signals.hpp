@@ -2,7 +2,7 @@
 // Process signals for the service: SIGHUP reloads the models, SIGTERM / SIGINT start a graceful shutdown.
 //
 // No signal handler is ever installed for them. SIGHUP, SIGTERM and SIGINT are blocked in every thread (the `wish`
-// executable blocks them before any library constructor can start a thread, see cli/signal_mask.cpp) and one watcher
+// executable blocks them before any library constructor can start a thread, see core/common/process_signals.cpp) and one watcher
 // thread takes them synchronously with sigtimedwait, then runs the callbacks as ordinary code. This makes the
 // service immune to libraries that swap process-wide handlers: GKlib (libmetis, called by CHOLMOD for every
 // ordering) installs `gk_sigthrow` for SIGTERM around each METIS call with signal() and restores the previous

@@ -33,7 +33,6 @@ import hashlib
 import json
 import math
 import pickle
-import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -42,6 +41,8 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))  # clients/python: the client library
+from wish_client import describe_csv  # noqa: E402
 from wish_model_json import dumps, seal  # noqa: E402
 
 FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 2
@@ -71,24 +72,10 @@ _DBL_MIN = float(np.finfo(float).tiny)  # std::numeric_limits<double>::min(), th
 # ---- features -------------------------------------------------------------------------------------------------------
 
 def read_describe_csv(path: str | Path) -> tuple[list[str], np.ndarray, list[str] | None]:
-    """``(files, xi, labels)`` from ``wish describe --csv`` (xi: n × (Lmax+1); labels from a label/class column)."""
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        raise ValueError(f"{path}: no rows")
-    xi_cols = sorted((c for c in rows[0] if c and re.fullmatch(r"xi_\d+", c)), key=lambda c: int(c[3:]))
-    if not xi_cols or [int(c[3:]) for c in xi_cols] != list(range(len(xi_cols))):
-        raise ValueError(f"{path}: expected columns xi_0..xi_L (the output of `wish describe --csv`)")
-    label_col = next((c for c in ("label", "class") if c in rows[0]), None)
-    files, xi, labels = [], [], []
-    for r in rows:
-        try:
-            xi.append([float(r[c]) for c in xi_cols])
-        except (TypeError, ValueError):
-            continue  # a mesh that failed to describe
-        files.append(r.get("file", ""))
-        labels.append(r.get(label_col, "") if label_col else "")
-    return files, np.asarray(xi, dtype=float), (labels if label_col else None)
+    """``(files, xi, labels)`` from ``wish describe --csv`` (xi: n × (Lmax+1); labels from a label/class column),
+    read by the client library's one reader of that CSV (clients/python/wish_client/describe_csv.py)."""
+    table = describe_csv.read_describe_csv(path)
+    return table.files, np.asarray(table.xi, dtype=float), table.labels
 
 
 def apply_feature_spec(xi: np.ndarray, spec: dict[str, Any]) -> np.ndarray:

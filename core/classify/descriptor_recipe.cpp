@@ -1,22 +1,18 @@
 #include "core/classify/descriptor_recipe.hpp"
 
+#include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
 
-const char* to_string(OffRecipePolicy policy) {
-  switch (policy) {
-    case OffRecipePolicy::Refuse: return "refuse";
-    case OffRecipePolicy::AcceptFlagged: return "accept_flagged";
-  }
-  return "refuse";
-}
+constexpr EnumNames<OffRecipePolicy, 2> kOffRecipePolicyNames{{{
+    {OffRecipePolicy::Refuse, "refuse"},
+    {OffRecipePolicy::AcceptFlagged, "accept_flagged"}}}};
+
+const char* to_string(OffRecipePolicy policy) { return kOffRecipePolicyNames.name(policy); }
 
 OffRecipePolicy off_recipe_policy_from_name(const std::string& name) {
-  if (name == "refuse") return OffRecipePolicy::Refuse;
-  if (name == "accept_flagged") return OffRecipePolicy::AcceptFlagged;
-  throw InvalidInputError("invalid_parameter",
-                          "unknown off-recipe policy '" + name + "' (expected refuse | accept_flagged)");
+  return kOffRecipePolicyNames.parse(name, "off-recipe policy", "off_recipe");
 }
 
 void validate_recipe(const DescriptorRecipe& r, const std::string& code) {
@@ -49,6 +45,10 @@ void enforce_recipe_policy(const DescriptorRecipe& recipe, const RecipeConforman
                    {"recipe_method", wanted},
                    {"attempts", static_cast<std::int64_t>(c.attempts)},
                    {"model", model_name}});
+}
+
+int model_steps(const DescriptorRecipe& recipe) {
+  return recipe.map.method == MapMethod::Cmcf ? recipe.map.cmcf.max_steps : recipe.map.willmore.max_steps;
 }
 
 }  // namespace wish

@@ -57,6 +57,10 @@ struct DescriptorRecipe {
 // Throws InvalidInputError(code, ...) when the parts disagree (features use xi(l) above sh.lmax, bad l range).
 void validate_recipe(const DescriptorRecipe& recipe, const std::string& code = "invalid_recipe");
 
+// The flow step cap of the recipe's map method (what a request's `steps` is compared with; the linear map has
+// none and reports the Willmore cap).
+int model_steps(const DescriptorRecipe& recipe);
+
 // How one computed descriptor relates to a recipe.
 struct RecipeConformance {
   bool match = true;                      // the map was made by the recipe's method

@@ -5,40 +5,31 @@
 #include <limits>
 
 #include "core/classify/global_descriptors.hpp"
+#include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
 
-const char* to_string(FeatureFamily family) {
-  switch (family) {
-    case FeatureFamily::Invariants: return "invariants";
-    case FeatureFamily::Global: return "global";
-    case FeatureFamily::Combined: return "combined";
-  }
-  return "invariants";
-}
+constexpr EnumNames<FeatureFamily, 3> kFeatureFamilyNames{{{
+    {FeatureFamily::Invariants, "invariants"},
+    {FeatureFamily::Global, "global"},
+    {FeatureFamily::Combined, "combined"}}}};
 
-const char* to_string(ScaleNormalization scale) {
-  switch (scale) {
-    case ScaleNormalization::None: return "none";
-    case ScaleNormalization::ByFirstInvariant: return "xi1";
-    case ScaleNormalization::ByArea: return "area";
-  }
-  return "none";
-}
+const char* to_string(FeatureFamily family) { return kFeatureFamilyNames.name(family); }
+
+constexpr EnumNames<ScaleNormalization, 3> kScaleNormalizationNames{{{
+    {ScaleNormalization::None, "none"},
+    {ScaleNormalization::ByFirstInvariant, "xi1"},
+    {ScaleNormalization::ByArea, "area"}}}};
+
+const char* to_string(ScaleNormalization scale) { return kScaleNormalizationNames.name(scale); }
 
 FeatureFamily feature_family_from_name(const std::string& name) {
-  if (name == "invariants") return FeatureFamily::Invariants;
-  if (name == "global") return FeatureFamily::Global;
-  if (name == "combined") return FeatureFamily::Combined;
-  throw InvalidInputError("feature_spec", "unknown feature family '" + name + "' (invariants, global, combined)");
+  return kFeatureFamilyNames.parse(name, "feature family", "family", "feature_spec");
 }
 
 ScaleNormalization scale_normalization_from_name(const std::string& name) {
-  if (name == "none") return ScaleNormalization::None;
-  if (name == "xi1") return ScaleNormalization::ByFirstInvariant;
-  if (name == "area") return ScaleNormalization::ByArea;
-  throw InvalidInputError("feature_spec", "unknown scale normalisation '" + name + "' (none, xi1, area)");
+  return kScaleNormalizationNames.parse(name, "scale normalisation", "scale", "feature_spec");
 }
 
 void validate_feature_spec(const FeatureSpec& spec) {

@@ -14,6 +14,7 @@
 #include "core/classify/classifier_state.hpp"
 #include "core/classify/descriptor_recipe_codec.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/model_json_codec.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/common/errors.hpp"
 
@@ -152,15 +153,6 @@ struct SettingsReader {
   }
 };
 
-json recipe_to_json(const DescriptorRecipe& r) {
-  json out = json::object();
-  SettingsWriter writer{out};
-  visit_recipe(writer, r);
-  out["recipe_version"] = DescriptorRecipe::kVersion;
-  out["features"]["names"] = feature_names(r.features);  // for readers of the file; checked on load
-  return out;
-}
-
 DescriptorRecipe recipe_from_json(const json& j) {
   const std::int64_t version = integer(j, "recipe_version", "recipe");
   if (version < 1 || version > DescriptorRecipe::kVersion)
@@ -192,13 +184,6 @@ json migrate_v1_payload(json p) {
   p.erase("features");
   p["recipe"] = std::move(recipe);
   return p;
-}
-
-json class_spectra_json(const std::vector<ClassSpectrum>& spectra) {
-  json out = json::array();
-  for (const auto& c : spectra)
-    out.push_back({{"label", c.label}, {"count", c.count}, {"log_xi_mean", c.log_xi_mean}, {"log_xi_std", c.log_xi_std}});
-  return out;
 }
 
 // Optional: model files written before class spectra existed have none (the payload seal covers what is there).
@@ -237,7 +222,7 @@ json payload_of(const ClassifierModel::State& s) {
             {"best_c", t.best_c}, {"best_gamma", t.best_gamma}, {"grid_score", t.grid_score},
             {"test_accuracy", t.test_accuracy}, {"nested_cv_mean", t.nested_cv_mean},
             {"nested_cv_std", t.nested_cv_std}, {"notes", t.notes},
-            {"class_spectra", class_spectra_json(t.class_spectra)}}}};
+            {"class_spectra", class_spectra_to_json(t.class_spectra)}}}};
 }
 
 std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
@@ -335,6 +320,22 @@ std::shared_ptr<const ClassifierModel::State> finalize_state(std::shared_ptr<Cla
 }
 
 std::string descriptor_recipe_json_text(const DescriptorRecipe& recipe) { return recipe_to_json(recipe).dump(); }
+
+nlohmann::json recipe_to_json(const DescriptorRecipe& r) {
+  json out = json::object();
+  SettingsWriter writer{out};
+  visit_recipe(writer, r);
+  out["recipe_version"] = DescriptorRecipe::kVersion;
+  out["features"]["names"] = feature_names(r.features);  // for readers of the file; checked on load
+  return out;
+}
+
+nlohmann::json class_spectra_to_json(const std::vector<ClassSpectrum>& spectra) {
+  json out = json::array();
+  for (const auto& c : spectra)
+    out.push_back({{"label", c.label}, {"count", c.count}, {"log_xi_mean", c.log_xi_mean}, {"log_xi_std", c.log_xi_std}});
+  return out;
+}
 
 std::string ClassifierModel::to_json_text() const { return document_of(*state_).dump(1) + "\n"; }
 

@@ -1,7 +1,8 @@
 #pragma once
 // Presenting a training run (classification.md: "Report like Table 1 ... a heat map is what people want to look
 // at ... also a confusion matrix, per-class precision/recall/F1, and an honest nested-CV estimate"):
-// a JSON report, a plain-text table, and an SVG heat map of the grid accuracy (ColorBrewer BuPu, as the paper).
+// a plain-text table and an SVG heat map of the grid accuracy (ColorBrewer BuPu, as the paper). The JSON report is
+// the wire library's (wire/training_report_json.hpp).
 
 #include <string>
 
@@ -9,7 +10,6 @@
 
 namespace wish {
 
-std::string training_report_json(const TrainingReport& report);  // pretty-printed JSON text
 std::string training_report_table(const TrainingReport& report);
 std::string grid_heatmap_svg(const GridSearchResult& grid, const std::string& title);
 

@@ -17,19 +17,6 @@ Eigen::VectorXd face_areas(const Eigen::MatrixX3d& vertices, const Eigen::Matrix
   return areas;
 }
 
-Eigen::MatrixX3d face_normals(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces) {
-  Eigen::MatrixX3d normals(faces.rows(), 3);
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Eigen::Vector3d x0 = vertices.row(faces(f, 0));
-    const Eigen::Vector3d x1 = vertices.row(faces(f, 1));
-    const Eigen::Vector3d x2 = vertices.row(faces(f, 2));
-    const Eigen::Vector3d n = (x1 - x0).cross(x2 - x0);
-    const double len = n.norm();
-    normals.row(f) = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-  }
-  return normals;
-}
-
 Eigen::MatrixX3d corner_cotangents(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces) {
   Eigen::MatrixX3d cot(faces.rows(), 3);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {

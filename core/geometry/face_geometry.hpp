@@ -11,9 +11,6 @@ namespace wish::geometry {
 // A_f = ½‖(x1−x0)×(x2−x0)‖ per face.
 Eigen::VectorXd face_areas(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces);
 
-// Unit normal (x1−x0)×(x2−x0)/‖·‖ per face (outward for CCW faces); zero for a zero-area face.
-Eigen::MatrixX3d face_normals(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces);
-
 // Corner cotangents: column k of row f is cot of the angle at corner k of face f, cot θ = (u·v)/‖u×v‖ with u, v the
 // two edges leaving the corner. A zero-area face gives ±inf/NaN here; callers that can meet such faces check.
 Eigen::MatrixX3d corner_cotangents(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces);

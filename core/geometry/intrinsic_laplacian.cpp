@@ -13,27 +13,20 @@
 
 #include <Eigen/Geometry>
 
+#include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish::geometry {
 
-const char* to_string(LaplacianKind kind) {
-  switch (kind) {
-    case LaplacianKind::Extrinsic: return "extrinsic";
-    case LaplacianKind::Mollified: return "mollified";
-    case LaplacianKind::IntrinsicDelaunay: return "intrinsic_delaunay";
-  }
-  return "?";
-}
+constexpr EnumNames<LaplacianKind, 3> kLaplacianKindNames{{{
+    {LaplacianKind::Extrinsic, "extrinsic"},
+    {LaplacianKind::Mollified, "mollified"},
+    {LaplacianKind::IntrinsicDelaunay, "intrinsic_delaunay"}}}};
+
+const char* to_string(LaplacianKind kind) { return kLaplacianKindNames.name(kind); }
 
 LaplacianKind laplacian_kind_from_name(const char* name) {
-  const std::string n = name;
-  if (n == "extrinsic") return LaplacianKind::Extrinsic;
-  if (n == "mollified") return LaplacianKind::Mollified;
-  if (n == "intrinsic_delaunay") return LaplacianKind::IntrinsicDelaunay;
-  throw InvalidInputError("invalid_parameter",
-                          "unknown Laplacian '" + n + "' (expected extrinsic, mollified or intrinsic_delaunay)",
-                          {{"laplacian", n}});
+  return kLaplacianKindNames.parse(name, "Laplacian", "laplacian");
 }
 
 double triangle_area_from_lengths(double a, double b, double c) {

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "core/common/errors.hpp"
+#include "core/geometry/mass_matrix.hpp"
 #include "core/sh/sh_basis.hpp"
 #include "core/sh/sh_conversion.hpp"
 #include "core/sh/sh_gram.hpp"
@@ -111,22 +112,11 @@ Eigen::MatrixX3d solve_banded(const Eigen::MatrixX3d& points, const Eigen::Matri
 
 }  // namespace
 
-Eigen::VectorXd vertex_areas(const Mesh& mesh) {
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(mesh.vertex_count());
-  for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0)), b = mesh.vertices.row(mesh.faces(f, 1)),
-                          c = mesh.vertices.row(mesh.faces(f, 2));
-    const double third = (b - a).cross(c - a).norm() / 6.0;
-    for (int q = 0; q < 3; ++q) area[mesh.faces(f, q)] += third;
-  }
-  return area;
-}
-
 Eigen::VectorXd fit_weights(const Mesh& input, FitWeighting weighting) {
   const Eigen::Index n = input.vertex_count();
   if (n == 0) throw InvalidInputError("empty_mesh", "cannot fit spherical harmonics to a mesh without vertices");
   if (weighting == FitWeighting::Uniform) return Eigen::VectorXd::Constant(n, 1.0 / double(n));
-  Eigen::VectorXd w = vertex_areas(input);
+  Eigen::VectorXd w = geometry::lumped_mass(input.vertices, input.faces);  // a third of each incident triangle
   const double total = w.sum();
   if (!(total > 0) || !std::isfinite(total))
     throw InvalidInputError("degenerate_mesh", "the mesh has zero total area; area weights are undefined",

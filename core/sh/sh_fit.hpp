@@ -21,8 +21,6 @@
 
 namespace wish {
 
-// Lumped (barycentric) vertex areas: a third of every incident triangle's area. #V entries.
-Eigen::VectorXd vertex_areas(const Mesh& mesh);
 
 // The fit weights of `options.weighting` for `input`, normalised to sum 1.
 // Throws InvalidInputError ("degenerate_mesh") when the area weights sum to zero.

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "core/common/cpu_budget.hpp"
+#include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/mass_matrix.hpp"
@@ -24,33 +25,25 @@
 
 namespace wish {
 
-const char* to_string(MapMethod method) {
-  switch (method) {
-    case MapMethod::Willmore: return "willmore";
-    case MapMethod::Cmcf: return "cmcf";
-    case MapMethod::Linear: return "linear";
-  }
-  return "?";
-}
+constexpr EnumNames<MapMethod, 3> kMapMethodNames{{{
+    {MapMethod::Willmore, "willmore"},
+    {MapMethod::Cmcf, "cmcf"},
+    {MapMethod::Linear, "linear"}}}};
+
+const char* to_string(MapMethod method) { return kMapMethodNames.name(method); }
 
 MapMethod map_method_from_name(const std::string& name) {
-  if (name == "willmore") return MapMethod::Willmore;
-  if (name == "cmcf") return MapMethod::Cmcf;
-  if (name == "linear") return MapMethod::Linear;
-  throw InvalidInputError("invalid_parameter", "unknown map method '" + name + "' (expected willmore, cmcf or linear)",
-                          {{"method", name}});
+  return kMapMethodNames.parse(name, "map method", "method");
 }
 
-const char* to_string(LinearSolverKind solver) {
-  return solver == LinearSolverKind::EigenSimplicial ? "eigen_simplicial" : "cholmod";
-}
+constexpr EnumNames<LinearSolverKind, 2> kLinearSolverNames{{{
+    {LinearSolverKind::Cholmod, "cholmod"},
+    {LinearSolverKind::EigenSimplicial, "eigen_simplicial"}}}};
+
+const char* to_string(LinearSolverKind solver) { return kLinearSolverNames.name(solver); }
 
 LinearSolverKind linear_solver_from_name(const std::string& name) {
-  if (name == "cholmod") return LinearSolverKind::Cholmod;
-  if (name == "eigen_simplicial") return LinearSolverKind::EigenSimplicial;
-  throw InvalidInputError("invalid_parameter",
-                          "unknown linear solver '" + name + "' (expected cholmod or eigen_simplicial)",
-                          {{"solver", name}});
+  return kLinearSolverNames.parse(name, "linear solver", "solver");
 }
 
 const char* to_string(MapCheck check) {

@@ -19,11 +19,11 @@ import argparse
 import csv
 import json
 import os
-import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from .describe_csv import read_describe_csv
 from .errors import WishInputError
 
 #: Colours of the paper's six classes (Fig. 8 draws neurons green); other classes cycle through tab10.
@@ -34,30 +34,10 @@ CLASS_COLOURS = {"neuron": "#2ca02c", "astrocyte": "#1f77b4", "endothelium": "#d
 # ---- inputs --------------------------------------------------------------------------------------------------------
 
 def read_descriptor_csv(path: str | os.PathLike) -> tuple[list[str], list[list[float]], list[str] | None]:
-    """Reads ``wish describe --csv`` output.
-
-    Returns:
-        ``(files, xi, labels)``: ``xi[i]`` = ξ(0..L) of ``files[i]`` (n × (L+1)); ``labels`` from a ``label`` or
-        ``class`` column when the CSV has one, else ``None``.
-    """
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        raise WishInputError(f"{path}: no rows")
-    xi_cols = sorted((c for c in rows[0] if c and re.fullmatch(r"xi_\d+", c)), key=lambda c: int(c[3:]))
-    if not xi_cols or [int(c[3:]) for c in xi_cols] != list(range(len(xi_cols))):
-        raise WishInputError(f"{path}: expected columns xi_0..xi_L (the output of `wish describe --csv`)")
-    file_col = "file" if "file" in rows[0] else next(iter(rows[0]))
-    label_col = next((c for c in ("label", "class") if c in rows[0]), None)
-    files, xi, labels = [], [], []
-    for r in rows:
-        try:
-            xi.append([float(r[c]) for c in xi_cols])
-        except (TypeError, ValueError):
-            continue  # a mesh that failed to describe (empty cells): not plottable
-        files.append(r[file_col])
-        labels.append(r[label_col] if label_col else "")
-    return files, xi, (labels if label_col else None)
+    """``(files, xi, labels)`` of ``wish describe --csv`` output (:func:`wish_client.describe_csv.read_describe_csv`;
+    rows of failed meshes, without ξ, are not plottable and left out)."""
+    table = read_describe_csv(path)
+    return table.files, table.xi, table.labels
 
 
 def read_labels(path: str | os.PathLike) -> dict[str, str]:

@@ -9,7 +9,7 @@
 
 #include "core/pipeline/pipeline.hpp"
 
-namespace wish::server {
+namespace wish::wire {
 
 struct ResultJsonOptions {
   bool coefficients = false, invariants = true, quality = true, reconstruction = false;
@@ -23,4 +23,4 @@ struct ResultJsonOptions {
 
 nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions& options);
 
-}  // namespace wish::server
+}  // namespace wish::wire

@@ -8,10 +8,10 @@
 
 #include "core/pipeline/volume_pipeline.hpp"
 
-namespace wish::server {
+namespace wish::wire {
 
 nlohmann::json volume_summary_json(const VolumeSummary& summary);
 // The "object" block of an entry: the voxel object and the surface made of it.
 nlohmann::json volume_object_json(const volume::VolumeObject& object, const volume::ObjectSurface& surface);
 
-}  // namespace wish::server
+}  // namespace wish::wire

@@ -1,7 +1,7 @@
 #pragma once
 // The one JSON wire encoding of the core structs (the schemas of proto/openapi.json), used by the service
 // (result_json.cpp assembles the DescribeResult) and by the CLI (`wish inspect --json`, `wish describe --json`,
-// `wish reconstruct`), so the CLI prints the same shapes the service sends and users can switch between them.
+// `wish map --json`, `wish predict --json`, `wish reconstruct`), so the CLI prints the same shapes the service sends and users can switch between them.
 // Errors and their details are encoded in error_mapping.hpp. Core headers stay JSON-free: the encoding lives here.
 // Includes Eigen through the core headers: never include from an http_*.cpp file.
 //
@@ -25,7 +25,7 @@
 
 #include "core/pipeline/pipeline.hpp"
 
-namespace wish::server {
+namespace wish::wire {
 
 nlohmann::json json_number(double value);          // null when not finite
 double json_number_or_nan(const nlohmann::json& value);  // the inverse for printing: NaN for null
@@ -33,12 +33,20 @@ double json_number_or_nan(const nlohmann::json& value);  // the inverse for prin
 nlohmann::json mesh_report_json(const MeshReport& report);          // MeshReport
 nlohmann::json repair_json(const RepairAction& repair);             // Repair: {"code", "message", "count"}
 nlohmann::json issue_json(const ValidationIssue& issue);            // {"code", "message", "details"}
+// MeshBlock: {"format", "bytes", "read_notes", "input": MeshReport (as read), "prepared": MeshReport (after repairs),
+// "repairs": [Repair]} and "filename" when not empty. The service's results and `wish inspect --json` both use it.
+nlohmann::json mesh_block_json(const PreparedMesh& prepared, MeshFormat format, std::size_t bytes,
+                               const std::vector<std::string>& read_notes, const std::string& filename = "");
 
 nlohmann::json map_quality_json(const MapQuality& quality);         // MapQuality
-nlohmann::json map_attempt_json(const MapAttempt& attempt);         // MapAttempt
+// FlowStepRecord: {"step", "tau", "energy", "roundness", "eigen_residual", "accepted", "seconds", "note"}.
+nlohmann::json flow_step_json(const FlowStepRecord& step);
+// MapAttempt; with `trace` also "map_verified" and "trace": the flow's step records (`wish map --json`).
+nlohmann::json map_attempt_json(const MapAttempt& attempt, bool trace = false);
 nlohmann::json map_operator_json(const geometry::IntrinsicStats& stats);  // the operator of a map: mollification, flips
-// MapBlock: {"method", "status", "seconds"} and, with `quality`, "quality" and "attempts".
-nlohmann::json map_block_json(const SphericalMapResult& map, bool quality);
+// MapBlock: {"method", "status", "verdict", "seconds"} and, with `quality`, "operator", "quality" and "attempts"
+// (with `trace`, each attempt's step records).
+nlohmann::json map_block_json(const SphericalMapResult& map, bool quality, bool trace = false);
 
 struct DescriptorJsonParts {
   bool invariants = true, coefficients = true;
@@ -73,4 +81,4 @@ nlohmann::json geometry_json(const Mesh& mesh, const Eigen::MatrixX3d& sphere, c
 // Timings: read, validate, map, fit, total; "classify" too with `classify`.
 nlohmann::json timings_json(const StageTimings& timings, bool classify = false);
 
-}  // namespace wish::server
+}  // namespace wish::wire

@@ -1,11 +1,11 @@
-#include "cli/signal_mask.hpp"
+#include "core/common/process_signals.hpp"
 
 #include <pthread.h>
 
 #include <csignal>
 #include <initializer_list>
 
-namespace wish::cli {
+namespace wish {
 
 namespace {
 sigset_t process_signals() {
@@ -31,4 +31,12 @@ void unblock_process_signals() {
   pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
 }
 
-}  // namespace wish::cli
+bool process_signals_blocked() {
+  sigset_t current;
+  pthread_sigmask(SIG_BLOCK, nullptr, &current);
+  for (int sig : {SIGHUP, SIGTERM, SIGINT})
+    if (sigismember(&current, sig) != 1) return false;
+  return true;
+}
+
+}  // namespace wish

@@ -1,21 +1,13 @@
-#include "server/result_json.hpp"
+#include "wire/result_json.hpp"
 
-#include "server/wire_json.hpp"
+#include "wire/wire_json.hpp"
 
-namespace wish::server {
+namespace wish::wire {
 
 nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions& options) {
   nlohmann::json out;
 
-  nlohmann::json mesh{{"format", to_string(result.format)},
-                      {"bytes", options.bytes},
-                      {"read_notes", result.read_notes},
-                      {"input", mesh_report_json(result.prepared.input_report)},
-                      {"prepared", mesh_report_json(result.prepared.report)},
-                      {"repairs", nlohmann::json::array()}};
-  if (!options.filename.empty()) mesh["filename"] = options.filename;
-  for (const auto& r : result.prepared.repairs) mesh["repairs"].push_back(repair_json(r));
-  out["mesh"] = std::move(mesh);
+  out["mesh"] = mesh_block_json(result.prepared, result.format, options.bytes, result.read_notes, options.filename);
 
   out["map"] = map_block_json(result.map, options.quality);
 
@@ -38,4 +30,4 @@ nlohmann::json result_json(const PipelineResult& result, const ResultJsonOptions
   return out;
 }
 
-}  // namespace wish::server
+}  // namespace wish::wire

@@ -1,8 +1,8 @@
-#include "server/volume_result_json.hpp"
+#include "wire/volume_result_json.hpp"
 
-#include "server/wire_json.hpp"
+#include "wire/wire_json.hpp"
 
-namespace wish::server {
+namespace wish::wire {
 
 namespace {
 nlohmann::json vec3(const Eigen::Vector3d& v) { return {json_number(v(0)), json_number(v(1)), json_number(v(2))}; }
@@ -41,4 +41,4 @@ nlohmann::json volume_object_json(const volume::VolumeObject& o, const volume::O
                        {"smoothing", s.timings.smoothing}, {"decimation", s.timings.decimation}}}};
 }
 
-}  // namespace wish::server
+}  // namespace wish::wire

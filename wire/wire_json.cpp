@@ -1,4 +1,4 @@
-#include "server/wire_json.hpp"
+#include "wire/wire_json.hpp"
 
 #include <cmath>
 #include <limits>
@@ -10,9 +10,9 @@
 #include "core/sh/sh_basis.hpp"
 #include "core/sh/sh_invariants.hpp"
 #include "core/spherical_map/map_verification.hpp"
-#include "server/error_mapping.hpp"
+#include "wire/error_json.hpp"
 
-namespace wish::server {
+namespace wish::wire {
 
 namespace {
 
@@ -72,6 +72,19 @@ nlohmann::json issue_json(const ValidationIssue& i) {
   return {{"code", i.code}, {"message", i.message}, {"details", details_json(i.details)}};
 }
 
+nlohmann::json mesh_block_json(const PreparedMesh& prepared, MeshFormat format, std::size_t bytes,
+                               const std::vector<std::string>& read_notes, const std::string& filename) {
+  nlohmann::json mesh{{"format", to_string(format)},
+                      {"bytes", bytes},
+                      {"read_notes", read_notes},
+                      {"input", mesh_report_json(prepared.input_report)},
+                      {"prepared", mesh_report_json(prepared.report)},
+                      {"repairs", nlohmann::json::array()}};
+  if (!filename.empty()) mesh["filename"] = filename;
+  for (const auto& r : prepared.repairs) mesh["repairs"].push_back(repair_json(r));
+  return mesh;
+}
+
 nlohmann::json map_quality_json(const MapQuality& q) {
   return {{"flipped_faces", q.flipped_faces},
           {"degenerate_faces", q.degenerate_faces},
@@ -83,6 +96,9 @@ nlohmann::json map_quality_json(const MapQuality& q) {
           {"area_distortion", json_number(q.area_distortion)},
           {"roundness", json_number(q.roundness)},
           {"mobius_centroid", json_number(q.mobius_centroid)},
+          {"mobius_iterations", q.mobius_iterations},
+          {"min_face_height", json_number(q.min_face_height)},
+          {"repaired_vertices", q.repaired_vertices},
           {"verdict", to_string(q.verdict)}};
 }
 
@@ -98,7 +114,14 @@ nlohmann::json map_operator_json(const geometry::IntrinsicStats& s) {
           {"flip_cap_hit", s.flip_cap_hit}};
 }
 
-nlohmann::json map_attempt_json(const MapAttempt& a) {
+nlohmann::json flow_step_json(const FlowStepRecord& s) {
+  return {{"step", s.step},         {"tau", json_number(s.tau)},
+          {"energy", json_number(s.energy)}, {"roundness", json_number(s.roundness)},
+          {"eigen_residual", json_number(s.eigen_residual)}, {"accepted", s.accepted},
+          {"seconds", json_number(s.seconds)}, {"note", s.note}};
+}
+
+nlohmann::json map_attempt_json(const MapAttempt& a, bool trace) {
   nlohmann::json out{{"method", to_string(a.method)}, {"filtered", a.filtered},
                      {"max_steps", a.max_steps},      {"status", to_string(a.status)},
                      {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)},
@@ -106,6 +129,11 @@ nlohmann::json map_attempt_json(const MapAttempt& a) {
   if (a.failed_check != MapCheck::None) out["failed_check"] = to_string(a.failed_check);
   out["stop"] = to_string(a.stop);
   if (!a.message.empty()) out["message"] = a.message;
+  if (trace) {
+    out["map_verified"] = a.map_verified;
+    out["trace"] = nlohmann::json::array();
+    for (const FlowStepRecord& s : a.steps) out["trace"].push_back(flow_step_json(s));
+  }
   return out;
 }
 
@@ -128,7 +156,7 @@ nlohmann::json area_correction_json(const AreaCorrectionReport& r) {
           {"seconds", json_number(r.seconds)}};
 }
 
-nlohmann::json map_block_json(const SphericalMapResult& map, bool quality) {
+nlohmann::json map_block_json(const SphericalMapResult& map, bool quality, bool trace) {
   nlohmann::json out{{"method", to_string(map.method_used)},
                      {"status", to_string(map.status)},
                      {"verdict", to_string(map.verdict)},
@@ -139,7 +167,7 @@ nlohmann::json map_block_json(const SphericalMapResult& map, bool quality) {
     out["operator"] = map_operator_json(map.operator_stats);
     out["quality"] = map_quality_json(map.quality);
     out["attempts"] = nlohmann::json::array();
-    for (const auto& a : map.attempts) out["attempts"].push_back(map_attempt_json(a));
+    for (const auto& a : map.attempts) out["attempts"].push_back(map_attempt_json(a, trace));
     // Planned attempts the flow budget stopped before they ran (issue 11: no budget stop is silent).
     out["skipped_for_budget"] = nlohmann::json::array();
     for (const auto& p : map.skipped_for_budget)
@@ -293,4 +321,4 @@ nlohmann::json timings_json(const StageTimings& t, bool classify) {
   return out;
 }
 
-}  // namespace wish::server
+}  // namespace wish::wire

@@ -1,0 +1,79 @@
+// The training report's JSON (wire/training_report_json.hpp) carries exactly the report's figures: the grid, the
+// confusion matrix, per-class scores and losses, and what a training run adds (input, comparison, skipped items).
+#include <gtest/gtest.h>
+
+#include "core/classify/dataset.hpp"
+#include "core/classify/training.hpp"
+#include "tests/classify/classify_test_data.hpp"
+#include "wire/training_report_json.hpp"
+
+namespace wish {
+namespace {
+
+TEST(TrainingReportJson, CarriesTheReportsFigures) {
+  const auto samples = testing::synthetic_samples(3, 20, 22);
+  auto opts = testing::quick_train_options(6);
+  opts.losses = {{"lost.ply", "class_b", "map_failed", "flipped faces"}};
+  const auto trained = train_classifier(samples, opts);
+  const TrainingReport& rep = trained.report;
+  const nlohmann::json j = wire::training_report_json(rep);
+
+  ASSERT_EQ(j.at("classes").size(), 3u);
+  EXPECT_EQ(j["classes"][1]["label"], "class_b");
+  EXPECT_EQ(j["classes"][1]["count"], rep.class_counts[1]);
+  // grid: rows C, columns gamma, the mean accuracy of every cell
+  ASSERT_EQ(j["grid"]["mean_accuracy"].size(), rep.grid.Cs.size());
+  ASSERT_EQ(j["grid"]["mean_accuracy"][0].size(), rep.grid.gammas.size());
+  for (std::size_t i = 0; i < rep.grid.Cs.size(); ++i)
+    for (std::size_t k = 0; k < rep.grid.gammas.size(); ++k)
+      EXPECT_DOUBLE_EQ(j["grid"]["mean_accuracy"][i][k].get<double>(),
+                       rep.grid.mean_score(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)));
+  EXPECT_DOUBLE_EQ(j["grid"]["best_C"].get<double>(), rep.grid.C());
+  // confusion matrix: rows true class, columns predicted; sums to the held-out count
+  const auto& cm = j["test"]["confusion_matrix"];
+  ASSERT_EQ(cm.size(), 3u);
+  int total = 0;
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(cm[i][k].get<int>(), rep.test.confusion(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)));
+      total += cm[i][k].get<int>();
+    }
+  EXPECT_EQ(total, static_cast<int>(rep.test_indices.size()));
+  EXPECT_EQ(j["test"]["predictions"].size(), rep.test_indices.size());
+  ASSERT_EQ(j["test"]["per_class"].size(), rep.test.per_class.size());
+  EXPECT_DOUBLE_EQ(j["test"]["per_class"][0]["f1"].get<double>(), rep.test.per_class[0].f1);
+  EXPECT_EQ(j["nested_cv"]["scores"].get<std::vector<double>>(), rep.nested.scores);
+  // losses per class, by code
+  bool found = false;
+  for (const auto& c : j["losses"])
+    if (c["label"] == "class_b") {
+      EXPECT_EQ(c["lost"], 1);
+      EXPECT_EQ(c["lost_by_code"]["map_failed"], 1);
+      found = true;
+    }
+  EXPECT_TRUE(found) << j["losses"].dump();
+}
+
+TEST(TrainingReportJson, ARunAddsInputComparisonAndSkippedItems) {
+  const auto samples = testing::synthetic_samples(2, 12, 31);
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  const auto trained = train_classifier(samples, opts);
+  const FamilyScore score = family_score("invariants", trained.report);
+  const nlohmann::json j = wire::training_run_json(
+      trained.report, {"data/train", "out/model.json", "abc123", {score}, {{"x.ply", "class_a", "timeout", "late"}},
+                       {"unlabelled.ply"}});
+  EXPECT_EQ(j["input"], "data/train");
+  EXPECT_EQ(j["model_file"], "out/model.json");
+  EXPECT_EQ(j["model_sha256"], "abc123");
+  ASSERT_EQ(j["comparison"].size(), 1u);
+  EXPECT_EQ(j["comparison"][0]["family"], "invariants");
+  EXPECT_DOUBLE_EQ(j["comparison"][0]["test_accuracy"].get<double>(), trained.report.test.accuracy);
+  ASSERT_EQ(j["skipped"].size(), 2u);
+  EXPECT_EQ(j["skipped"][0]["code"], "timeout");
+  EXPECT_EQ(j["skipped"][1]["code"], "no_label");
+  EXPECT_TRUE(j.contains("grid"));  // the report itself is all there
+}
+
+}  // namespace
+}  // namespace wish
