@@ -87,10 +87,11 @@ class DefaultContainerTest(unittest.TestCase):
 
     def test_runs_as_non_root_on_a_read_only_root(self) -> None:
         self.assertEqual(docker("inspect", "-f", "{{.HostConfig.ReadonlyRootfs}}", self.name).stdout.strip(), "true")
-        # PID 1 is `wish` itself (the entrypoint execs it), with the wish user's real and effective uid.
+        # PID 1 is the service itself: the entrypoint execs `wish serve`, which execs `wish-server` (the service
+        # executable beside it, cli/cmd_serve.cpp) — same pid, with the wish user's real and effective uid.
         status = docker("exec", self.name, "cat", "/proc/1/status").stdout
         fields = dict(line.split(":", 1) for line in status.splitlines() if ":" in line)
-        self.assertEqual(fields["Name"].strip(), "wish")
+        self.assertEqual(fields["Name"].strip(), "wish-server")
         self.assertEqual(fields["Uid"].split()[:2], [WISH_UID, WISH_UID])
         self.assertEqual(docker("exec", self.name, "id", "-u").stdout.strip(), WISH_UID)  # the image's USER
         for target in ("/usr/local/bin/new-file", "/opt/wish/models/default.json", "/etc/passwd", "/new-file"):
