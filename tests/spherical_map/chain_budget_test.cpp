@@ -11,28 +11,14 @@
 #include "core/mesh/icosphere.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "core/validation/mesh_report.hpp"
+#include "tests/spherical_map/coil_mesh.hpp"
 
 namespace wish {
 namespace {
 
 // A tube of radius 0.12 along 1.5 turns of a helix (as in real_mesh_test): far from star-shaped, so the radial
 // projection of the unflowed surface folds over and only a flow or the linear method maps it bijectively.
-Mesh make_coil() {
-  Mesh m = make_icosphere(4);
-  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {
-    const Eigen::Vector3d p = m.vertices.row(i).transpose();
-    const double t = (p.x() + 1.0) * std::numbers::pi * 1.5;
-    const double pitch = 0.8 / (2 * std::numbers::pi);
-    const Eigen::Vector3d c(std::cos(t), std::sin(t), pitch * t);
-    const Eigen::Vector3d tangent = Eigen::Vector3d(-std::sin(t), std::cos(t), pitch).normalized();
-    const Eigen::Vector3d normal(-std::cos(t), -std::sin(t), 0);
-    const Eigen::Vector3d binormal = tangent.cross(normal);
-    const double r = 0.12 * std::sqrt(std::max(0.0, 1.0 - p.x() * p.x())) /
-                     std::max(1e-12, std::sqrt(std::max(1e-24, p.y() * p.y() + p.z() * p.z())));
-    m.vertices.row(i) = (c + r * (p.y() * normal + p.z() * binormal)).transpose();
-  }
-  return m;
-}
+using testing::make_coil;
 
 void expect_bijective(const SphericalMapResult& r) {
   EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts.back().message;

@@ -11,6 +11,7 @@
 #include "core/mesh/icosphere.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "core/validation/mesh_report.hpp"
+#include "tests/spherical_map/coil_mesh.hpp"
 #include "tests/testing/test_data.hpp"
 
 namespace wish {
@@ -159,18 +160,7 @@ TEST(RealMeshMap, DumbbellWithAThinNeckMapsBijectively) {
 }
 
 TEST(RealMeshMap, CoilMapsBijectively) {
-  // A tube of radius 0.12 along 1.5 turns of a helix (radius 1, pitch 0.8), made by bending a long ellipsoid.
-  const Mesh coil = deformed_icosphere(4, [](const Eigen::Vector3d& p) {
-    const double turns = 1.5, t = (p.x() + 1.0) * std::numbers::pi * turns;  // angle along the helix
-    const double pitch = 0.8 / (2 * std::numbers::pi);
-    const Eigen::Vector3d c(std::cos(t), std::sin(t), pitch * t);
-    const Eigen::Vector3d tangent = Eigen::Vector3d(-std::sin(t), std::cos(t), pitch).normalized();
-    const Eigen::Vector3d normal(-std::cos(t), -std::sin(t), 0);
-    const Eigen::Vector3d binormal = tangent.cross(normal);
-    const double r = 0.12 * std::sqrt(std::max(0.0, 1.0 - p.x() * p.x())) /
-                     std::max(1e-12, std::sqrt(std::max(1e-24, p.y() * p.y() + p.z() * p.z())));
-    return Eigen::Vector3d(c + r * (p.y() * normal + p.z() * binormal));
-  });
+  const Mesh coil = testing::make_coil();  // 1.5 turns of a thin helical tube (coil_mesh.hpp)
   ASSERT_TRUE(prepare_for_mapping(coil).mappable());
   expect_bijective(compute_spherical_map(coil), "coil (1.5 turns)");
 }
