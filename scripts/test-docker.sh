@@ -11,7 +11,12 @@
 # When no engine can start, it says why and fails. Containers and images it made carry the names wish-test-*.
 #   WISH_DOCKER_TESTS="test_container"   run only these test modules
 #   WISH_IMAGE=wish:test                 the tag built and tested
+#   --build-only                         steps 1-3 only (scripts/test.sh runs this in the background from the start, so
+#                                        debootstrap's and apt's downloads overlap the host builds; the later full
+#                                        run then finds every layer in the build cache)
 set -euo pipefail
+build_only=0
+[[ "${1:-}" == "--build-only" ]] && build_only=1
 cd "$(dirname "$0")/.."
 root=$PWD
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
@@ -47,6 +52,8 @@ DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMA
 }
 echo "test-docker: image $nginx_image built; size $(docker image inspect -f '{{.Size}}' "$nginx_image" |
   awk '{printf "%.1f MB", $1 / 1e6}')"
+
+if ((build_only)); then exit 0; fi
 
 modules=${WISH_DOCKER_TESTS:-"test_container test_scale_out_containers"}
 cd tests/deploy

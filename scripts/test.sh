@@ -16,6 +16,16 @@ step() { printf '\n==== %s (%s)\n' "$1" "$(date -u +%H:%M:%S)"; }
 step "dependencies"
 bash scripts/install-deps.sh --test
 
+# The container images are built in the background from here on: debootstrap's and apt's downloads (minutes of
+# network wait) overlap the host builds instead of adding to them. The last step re-runs the build from its cache.
+mkdir -p build
+step "container images: building in the background (build/docker-prebuild.log)"
+bash scripts/test-docker.sh --build-only >build/docker-prebuild.log 2>&1 &
+docker_prebuild_pid=$!
+# On an early failure, stop it (its children first: bash runs its EXIT trap, which stops its dockerd, only after
+# the foreground docker client is gone).
+trap 'if kill -0 "$docker_prebuild_pid" 2>/dev/null; then pkill -TERM -P "$docker_prebuild_pid"; kill -TERM "$docker_prebuild_pid"; wait "$docker_prebuild_pid" 2>/dev/null; fi' EXIT
+
 step "release build"
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DWISH_SANITIZE=OFF >/dev/null
 cmake --build build/release -j "$jobs"
@@ -48,6 +58,11 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 
 step "Slurm batch runner on a single-node Slurm (scripts/test-slurm.sh)"
 WISH_BIN="$root/build/release/cli/wish" bash scripts/test-slurm.sh
+
+step "container images: the background build (scripts/test-docker.sh --build-only)"
+if wait "$docker_prebuild_pid"; then tail -n 4 build/docker-prebuild.log
+else echo "background image build failed (the next step builds again and reports):"; tail -n 20 build/docker-prebuild.log
+fi
 
 step "container image: build and end-to-end tests (scripts/test-docker.sh)"
 bash scripts/test-docker.sh
