@@ -1,7 +1,7 @@
 // Descriptor accuracy benchmark (issue 12): which descriptor recipe classifies best, measured by nested,
 // repeated stratified CV accuracy (training.hpp nested_cross_validation) on labelled datasets given as
 // directories of class folders of meshes. Configurations: map method (willmore, cmcf, linear — each alone, no
-// fallback, so every descriptor of a row comes from one method), SH regularisation nu (today's 1e-5, i.e. the
+// fallback, so every descriptor of a row comes from one method), SH regularisation nu (the SH fit's default 1e-5, i.e. the
 // paper's nu/10^4 at unit-sum weights, against x10^2 and x10^4 stronger), Lmax, scale normalisation xi(l)/xi(1)
 // on/off, log on/off, and feature family xi alone / global alone / combined (xi + global).
 // Each map is computed once per mesh and method and reused for every fit setting; each fit once per (nu, Lmax)
@@ -10,9 +10,9 @@
 //   descriptor_accuracy_bench --data DIR [--data DIR ...] [--methods willmore,cmcf,linear] [--nu 1,100,10000]
 //     [--lmax 10,15,25] [--max-per-class N] [--jobs J] [--repeats R] [--folds F] [--c-range A B]
 //     [--gamma-range A B] [--max-k-p99 X] [--map-seconds S] [--csv OUT.csv] [--paired]
-// --flow-budget S: the flows' soft time budget (SphericalMapOptions::flow_budget_seconds, wall-clock seconds per
-// 10,000 vertices; default 4): on a loaded machine the default cuts flows short (FlowStop::TimeBudget), so the
-// mapped share then measures the load as much as the method.
+// --flow-budget S: the flows' soft time budget (SphericalMapOptions::flow_budget_seconds, CPU seconds of the mapping
+// thread per 10,000 vertices; default 2): a generous budget lets every flow run to convergence, so a row's mapped
+// share measures the method rather than the budget.
 // --paired: every row uses only the meshes that every listed method mapped (the same meshes for every method, so
 // rows compare methods on paired data; without it a row has the meshes its own method mapped).
 // --area-correction none,dem: map variants per method (density_equalizing.hpp): "none" is the conformal map,
@@ -374,7 +374,7 @@ int main(int argc, char** argv) {
     cv.grid.jobs = jobs;
     std::printf("\nnested CV accuracy %% (mean ± std over %d x %d outer folds; inner: 5 stratified shuffle splits, "
                 "C 1e%d..1e%d, gamma 1e%d..1e%d)\n", repeats, folds, c_range[0], c_range[1], gamma_range[0], gamma_range[1]);
-    std::printf("nu = 1e-5 x factor (today: factor 1); scale: xi(l)/xi(1); global alone is on the same meshes as the row\n");
+    std::printf("nu = 1e-5 x factor (SH fit default: factor 1; wish train default: factor 10^4); scale: xi(l)/xi(1); global alone is on the same meshes as the row\n");
     std::printf("%-12s %4s %7s %5s %5s %4s %12s %12s %12s\n", "method", "n", "nu x", "Lmax", "scale", "log", "xi alone",
                 "global", "combined");
     const auto t_cv = std::chrono::steady_clock::now();
