@@ -32,9 +32,10 @@ ApiResponse json_response(int status, const nlohmann::json& body);
 // The one error body (error_mapping.hpp) with Retry-After (503) and WWW-Authenticate (401) headers.
 ApiResponse error_response(const ApiError& error, const std::string& request_id);
 
-// The status of a multipart (batch) answer from its parts' own statuses (RFC 4918 §13 Multi-Status): the parts'
-// common status when they all agree (all 200 -> 200, every part 422 -> 422, so `curl -f` sees a single bad upload
-// fail), 207 when they differ. The body is the same BatchResponse either way.
+// The status of an answer made of items with their own statuses (RFC 4918 §13 Multi-Status): the parts of a
+// multipart (batch) request, the objects of a label volume. The items' common status when they all agree (all
+// 200 -> 200, every item 422 -> 422, so `curl -f` sees a single bad upload fail), 207 when they differ. The body
+// is the same BatchResponse / VolumeResult either way.
 int batch_status(const std::vector<int>& part_statuses);
 
 }  // namespace wish::server

@@ -2,6 +2,7 @@
 
 #include "core/pipeline/pipeline.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
+#include "server/api_response.hpp"
 #include "server/loaded_model.hpp"
 #include "wire/result_json.hpp"
 #include "wire/volume_result_json.hpp"
@@ -125,8 +126,23 @@ VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) 
   return v;
 }
 
+// The refusal of a volume with no object to describe (every voxel background, or every object filtered out): a
+// 422 that says which filter took them, rather than a 200 with an empty list that a batch script reads as success.
+WishError no_objects_error(const VolumeSummary& s) {
+  std::string why = s.found == 0 ? "every voxel is background (0)"
+                                 : std::to_string(s.found) + " found, dropped: " +
+                                       std::to_string(s.dropped_not_selected) + " not in labels, " +
+                                       std::to_string(s.dropped_small) + " under min_voxels, " +
+                                       std::to_string(s.dropped_truncated) + " truncated (drop_truncated)";
+  return WishError(ErrorCategory::Unmappable, "no_objects", "the label volume has no object to describe: " + why,
+                   {{"objects_found", s.found}, {"not_selected", s.dropped_not_selected},
+                    {"small", s.dropped_small}, {"truncated", s.dropped_truncated}});
+}
+
 // A label volume: every kept object is meshed (core/pipeline/volume_pipeline.hpp) and described or classified like
 // an uploaded mesh; an object that cannot be is an error entry with its own status, the others are unaffected.
+// The volume's own status follows its objects' as a batch's follows its parts' (batch_status): 200 all described,
+// their common status when all were refused alike, 207 when they differ; `out.error` is the first refusal.
 // The time limit covers the whole volume: past it, or when cancelled, the part fails (504 / 503) as a mesh would.
 void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcome& out) {
   PipelineOptions options = base_options(job, config);
@@ -139,6 +155,17 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
   }
   nlohmann::json objects = nlohmann::json::array();
   std::int64_t kept = 0, described = 0, refused = 0, vertices = 0, faces = 0;
+  std::vector<int> statuses;  // of the objects, in order
+  const auto add = [&](nlohmann::json&& entry, int status) {
+    entry["status"] = status;
+    statuses.push_back(status);
+    objects.push_back(std::move(entry));
+  };
+  const auto refuse = [&](nlohmann::json&& entry, const ApiError& error) {
+    entry["error"] = error_object(error);
+    if (refused++ == 0) out.error = error;
+    add(std::move(entry), error.status);
+  };
   const VolumeSummary summary = for_each_object_surface(
       *job.part.bytes, volume_options(job, config),
       [&](std::size_t index, const volume::VolumeObject& object, volume::ObjectSurface& surface) {
@@ -161,10 +188,7 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
           const ApiError error = to_api_error(WishError(ErrorCategory::Unmappable, surface.refusal_code,
                                                         surface.refusal, {{"label_id", std::int64_t{object.id}},
                                                                           {"genus", std::int64_t{surface.genus}}}));
-          entry["status"] = error.status;
-          entry["error"] = error_object(error);
-          ++refused;
-          objects.push_back(std::move(entry));
+          refuse(std::move(entry), error);
           return;
         }
         try {
@@ -178,21 +202,19 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
           record_stages(job, result.timings, out);
           vertices += result.prepared.input_report.vertices;
           faces += result.prepared.input_report.faces;
-          entry["status"] = 200;
           entry["result"] = result_json(result, json_options);
           entry["result"]["request_id"] = job.request_id;
           ++described;
+          add(std::move(entry), 200);
         } catch (const WishError& e) {
           // The request's own limit or cancellation ends the whole volume; anything else is this object's refusal.
           if (e.category() == ErrorCategory::Timeout || e.code() == "cancelled") throw;
-          const ApiError error = to_api_error(e);
-          entry["status"] = error.status;
-          entry["error"] = error_object(error);
-          ++refused;
+          refuse(std::move(entry), to_api_error(e));
         }
-        objects.push_back(std::move(entry));
       },
       [&](const VolumeSummary& s) { kept = s.kept; });
+  if (summary.kept == 0) throw no_objects_error(summary);
+  out.status = batch_status(statuses);
   out.vertices = vertices;
   out.faces = faces;
   out.stages["volume_read"] = summary.read_seconds;
@@ -221,10 +243,9 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
                                   "' applies to label volumes (NIfTI-1, TIFF) only; this part is a mesh",
                               {{"parameter", job.params.volume.given.front()}});
     if (job.part.volume) {
-      run_volume(job, config, out);
+      run_volume(job, config, out);  // sets the status from the objects'
       out.stages["total"] = seconds_between(started, std::chrono::steady_clock::now());
       out.result["timings"] = {{"queue_wait", out.stages["queue_wait"]}, {"total", out.stages["total"]}};
-      out.status = 200;
       return out;
     }
 
@@ -248,6 +269,7 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
   } catch (...) {
     out.error = to_api_error(std::current_exception());
     out.status = out.error.status;
+    out.result = nullptr;  // failed as a whole: no result (assemble answers the plain error)
   }
   return out;
 }

@@ -29,9 +29,11 @@ struct ComputeJob {
 };
 
 struct ComputeOutcome {
+  // A mesh: 200 with its result, or its error. A label volume: its objects' status (200, their common refusal
+  // status, or 207 when they differ: api_response.hpp batch_status) with its VolumeResult either way.
   int status = 500;
-  nlohmann::json result;                 // DescribeResult without request_id (status 200)
-  ApiError error;                        // status != 200
+  nlohmann::json result;                 // DescribeResult / VolumeResult without request_id; null when failed whole
+  ApiError error;                        // status != 200 (a volume: its first refused object's)
   std::map<std::string, double> stages;  // seconds: queue_wait, read, validate, map, fit, classify, total
   std::int64_t vertices = -1, faces = -1;  // of the mesh as read, when it got that far
 };

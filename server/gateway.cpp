@@ -170,28 +170,36 @@ ApiResponse Gateway::assemble(const ComputeRequest& request, const std::vector<M
   ApiResponse out;
   if (!request.multipart) {
     auto& o = outcomes.front();
-    if (o.status != 200) {
+    if (o.result.is_null()) {
       out = error_response(o.error, request.request_id);
     } else {
+      // A result, or a label volume whose objects did not all succeed (207, or their common 4xx with the first
+      // refusal at the top level like every error answer): the VolumeResult still lists every object.
       o.result["request_id"] = request.request_id;
-      out = json_response(200, o.result);
+      if (o.status >= 400) o.result["error"] = error_object(o.error);
+      out = json_response(o.status, o.result);
+      if (o.status != 200) out.error_code = o.error.code;
     }
   } else {
     nlohmann::json results = nlohmann::json::array();
     std::vector<int> statuses;
-    const ApiError* first_error = nullptr;
+    const ApiError* first_error = nullptr;   // of the first failed part: the top-level error of a 4xx/5xx answer
+    const ApiError* first_refusal = nullptr; // of the first part not 200 (a 207 volume part too): the access line's
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       auto& o = outcomes[i];
       statuses.push_back(o.status);
       nlohmann::json item{{"part", parts[i].field}, {"status", o.status}};
       if (!parts[i].filename.empty()) item["filename"] = parts[i].filename;
-      if (o.status == 200) {
+      // A label volume part keeps its result (every object) whatever its status; a mesh part has one or the other.
+      if (!o.result.is_null()) {
         o.result["request_id"] = request.request_id;
         item["result"] = std::move(o.result);
-      } else {
+      }
+      if (o.status >= 400) {
         item["error"] = error_object(o.error);
         if (!first_error) first_error = &o.error;
       }
+      if (o.status != 200 && !first_refusal) first_refusal = &o.error;
       results.push_back(std::move(item));
     }
     // Every part failed the same way: the answer has that status, and (like every 4xx/5xx answer) a top-level
@@ -200,11 +208,9 @@ ApiResponse Gateway::assemble(const ComputeRequest& request, const std::vector<M
     nlohmann::json body{{"request_id", request.request_id}, {"results", std::move(results)}};
     if (status >= 400 && first_error) body["error"] = error_object(*first_error);
     out = json_response(status, body);
-    if (first_error) {
-      out.error_code = first_error->code;
-      if (status == 503 && first_error->retry_after_seconds > 0)
-        out.headers.emplace_back("Retry-After", std::to_string(first_error->retry_after_seconds));
-    }
+    if (first_refusal) out.error_code = first_refusal->code;
+    if (status == 503 && first_error && first_error->retry_after_seconds > 0)
+      out.headers.emplace_back("Retry-After", std::to_string(first_error->retry_after_seconds));
   }
   if (counted) { out.vertices = vertices; out.faces = faces; }
   return out;

@@ -127,15 +127,33 @@ ComputeRequest read_compute_request(Operation op, const httplib::Request& req, h
   return out;
 }
 
-// httplib's task queue over the on-demand connection threads (connection_threads.hpp).
+// The time of the last accepted connection or request start, for the quiet period before a stop (run_server.cpp).
+class ActivityClock {
+ public:
+  void touch() { last_.store(Clock::now().time_since_epoch().count(), std::memory_order_relaxed); }
+  double seconds_since() const {
+    return std::chrono::duration<double>(Clock::now() - Clock::time_point(Clock::duration(last_.load()))).count();
+  }
+
+ private:
+  std::atomic<Clock::rep> last_{Clock::now().time_since_epoch().count()};
+};
+
+// httplib's task queue over the on-demand connection threads (connection_threads.hpp); an accepted connection is
+// activity (its request may still be on the way).
 class ConnectionTaskQueue : public httplib::TaskQueue {
  public:
-  ConnectionTaskQueue(std::size_t warm_threads, std::size_t max_threads) : threads_(warm_threads, max_threads) {}
-  void enqueue(std::function<void()> fn) override { threads_.enqueue(std::move(fn)); }
+  ConnectionTaskQueue(std::size_t warm_threads, std::size_t max_threads, ActivityClock& activity)
+      : threads_(warm_threads, max_threads), activity_(activity) {}
+  void enqueue(std::function<void()> fn) override {
+    activity_.touch();
+    threads_.enqueue(std::move(fn));
+  }
   void shutdown() override { threads_.shutdown(); }
 
  private:
   ConnectionThreads threads_;
+  ActivityClock& activity_;
 };
 
 }  // namespace
@@ -145,6 +163,7 @@ struct HttpServer::Impl {
   Metrics& metrics;
   CancelRegistry cancels;
   Gateway gateway;
+  ActivityClock activity;
   httplib::Server server;
 
   Impl(const ServerConfig& c, ModelRegistry& m, WorkerPool& p, Metrics& me)
@@ -152,7 +171,7 @@ struct HttpServer::Impl {
     const std::size_t threads = static_cast<std::size_t>(config.http_threads);
     // Warm: every worker busy and the job queue full still finds a thread (so it is answered 503 at once).
     const std::size_t warm = static_cast<std::size_t>(config.workers + config.queue_size + 8);
-    server.new_task_queue = [warm, threads] { return new ConnectionTaskQueue(warm, threads); };
+    server.new_task_queue = [this, warm, threads] { return new ConnectionTaskQueue(warm, threads, activity); };
     server.set_payload_max_length(config.max_upload_bytes);
     // httplib writes the headers and the body of a response separately; with Nagle's algorithm on, the body waits
     // for the client's delayed ACK (40 ms on Linux): a 5 ms describe of a small mesh took 46 ms end to end.
@@ -170,6 +189,7 @@ struct HttpServer::Impl {
 
   void install_hooks() {
     server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      activity.touch();  // a request on a kept-alive connection is activity too
       t_request = RequestState{};
       t_request.start = Clock::now();
       const std::string incoming = req.get_header_value("X-Request-Id");
@@ -340,5 +360,7 @@ void HttpServer::stop() { impl_->server.stop(); }
 void HttpServer::cancel_in_flight() { impl_->cancels.cancel_all(); }
 
 int HttpServer::in_flight() const { return impl_->gateway.in_flight(); }
+
+double HttpServer::seconds_since_activity() const { return impl_->activity.seconds_since(); }
 
 }  // namespace wish::server

@@ -27,6 +27,8 @@ class HttpServer {
   // Past the grace period: in-flight computations stop at their next deadline check (503 "cancelled").
   void cancel_in_flight();
   int in_flight() const;
+  // Since the last connection was accepted or request began (any route): how long the service has been quiet.
+  double seconds_since_activity() const;
 
  private:
   struct Impl;

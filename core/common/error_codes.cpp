@@ -49,6 +49,7 @@ constexpr std::array kCodes{
     ErrorCodeInfo{"no_label", C::InvalidInput, 0, "a training file has no class label (folder or manifest)"},
     ErrorCodeInfo{"no_mesh", C::InvalidInput, 0, "a request carries no mesh"},
     ErrorCodeInfo{"no_model_loaded", C::Unavailable, 0, "classification was asked for but no model is loaded"},
+    ErrorCodeInfo{"no_objects", C::Unmappable, 0, "a label volume has no object left to describe (all background, or all filtered out)"},
     ErrorCodeInfo{"non_finite_vertex", C::InvalidInput, 0, "a vertex coordinate is NaN or infinite"},
     ErrorCodeInfo{"non_manifold_edge", C::Unmappable, 0, "an edge is shared by more than two faces"},
     ErrorCodeInfo{"non_manifold_vertex", C::Unmappable, 0, "a vertex joins separate fans of faces"},

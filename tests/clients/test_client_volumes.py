@@ -109,5 +109,14 @@ class ClientVolumeTest(unittest.TestCase):
                          [("cells.nii.gz", "1"), ("cells.nii.gz", "2"), ("ellipsoid.off", "")])
 
 
+    def test_batch_cli_writes_one_error_row_for_a_volume_with_no_object_left(self) -> None:
+        out = self.tmp / "none.csv"
+        code, _, err = run_cli("classify", str(self.volume), "--server", self.url, "--out", str(out), "--no-progress",
+                               "--labels", "99")  # no such label: every object found is dropped
+        self.assertEqual(code, EXIT_FAILED, err)
+        (row,) = read_records(out)
+        self.assertEqual((row.status, row.error_code, row.label_id), ("error", "no_objects", ""))
+        self.assertIn(f"{len(self.counts)} found", row.error_message)  # the server's sentence, with its counts
+
 if __name__ == "__main__":
     unittest.main()

@@ -243,6 +243,46 @@ TEST(Gateway, BatchStatusRule) {
   EXPECT_EQ(batch_status({422, 413}), 207);
 }
 
+// A label volume's outcome carries its VolumeResult whatever its status (compute_service.cpp sets the status from
+// its objects'): raw, the answer has that status and the result, with the first refusal at the top level when it
+// is an error; as a multipart part, the item keeps its result beside its status (and its error when >= 400).
+TEST(Gateway, VolumeOutcomeKeepsItsObjectsWhateverItsStatus) {
+  Fixture f;
+  f.compute.reply = [](const ComputeJob& job) {
+    ComputeOutcome o;
+    o.status = *job.part.bytes == "mixed" ? 207 : 422;
+    o.error = to_api_error(WishError(ErrorCategory::Unmappable, "genus_nonzero", "genus 1"));
+    o.result = {{"objects", nlohmann::json::array({{{"label_id", 1}, {"status", o.status == 207 ? 200 : 422}},
+                                                   {{"label_id", 2}, {"status", 422}}})}};
+    return o;
+  };
+  ApiResponse r = f.gateway.compute(raw_request(Operation::Describe, "mixed"));
+  EXPECT_EQ(r.status, 207) << r.body;
+  auto body = body_of(r);
+  EXPECT_EQ(body["objects"].size(), 2u);
+  EXPECT_EQ(body["request_id"], "req-1");
+  EXPECT_FALSE(body.contains("error"));  // a 207 is not an error answer
+  EXPECT_EQ(r.error_code, "genus_nonzero");  // the access line still names the first refusal
+
+  r = f.gateway.compute(raw_request(Operation::Describe, "refused"));
+  EXPECT_EQ(r.status, 422) << r.body;
+  body = body_of(r);
+  EXPECT_EQ(body["objects"].size(), 2u);
+  EXPECT_EQ(body["error"]["code"], "genus_nonzero");
+
+  std::vector<FormPart> form{{"mesh", "a.nii", "", "mixed"}, {"mesh", "b.nii", "", "refused"}};
+  r = f.gateway.compute(multipart_request(Operation::Describe, std::move(form)));
+  EXPECT_EQ(r.status, 207) << r.body;
+  body = body_of(r);
+  EXPECT_EQ(body["results"][0]["status"], 207);
+  EXPECT_EQ(body["results"][0]["result"]["objects"].size(), 2u);
+  EXPECT_FALSE(body["results"][0].contains("error"));
+  EXPECT_EQ(body["results"][1]["status"], 422);
+  EXPECT_EQ(body["results"][1]["result"]["objects"].size(), 2u);
+  EXPECT_EQ(body["results"][1]["error"]["code"], "genus_nonzero");
+  EXPECT_FALSE(body.contains("error"));
+}
+
 TEST(Gateway, BatchAnswersOneEntryPerPartInOrder) {
   Fixture f;
   f.compute.reply = [](const ComputeJob& job) {

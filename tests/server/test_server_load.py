@@ -65,19 +65,21 @@ class ServerLoadTest(unittest.TestCase):
     def test_full_queue_gives_503_quickly(self):
         with h.Server(args=["--workers", "1", "--queue-size", "1", "--retry-after", "2"]) as s:
             def one(i):
-                t = time.time()
                 r = s.post_mesh("/v1/describe", self.bear, timeout=120)
-                return r, time.time() - t
+                return r, time.monotonic()
             results = run_parallel(one, 6)
             statuses = sorted(r.status for r, _ in results)
             self.assertEqual(statuses.count(200), 2, statuses)  # one running + one queued
             self.assertEqual(statuses.count(503), 4, statuses)
-            for r, seconds in results:
+            # Refused at once, not after waiting for a worker: every refusal is answered before the running job
+            # ends (an order of events, so it holds however slow a busy machine makes both).
+            first_done = min(done for r, done in results if r.status == 200)
+            for r, done in results:
                 if r.status == 503:
                     h.validate("Error", r.json())
                     self.assertEqual(r.json()["error"]["code"], "queue_full")
                     self.assertEqual(r.header("Retry-After"), "2")
-                    self.assertLess(seconds, 2.0)  # refused at once, not after waiting for a worker
+                    self.assertLess(done, first_done)
             self.assertEqual(s.metric("wish_rejected_requests_total", {"reason": "queue_full"}), 4)
 
     def test_readyz_reflects_full_queue(self):

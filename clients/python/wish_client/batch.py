@@ -391,11 +391,7 @@ def classify_batch(client: WishClient, files: Sequence[str], out: str | os.PathL
             rec.voxel_count = o.object.get("voxel_count")
             rec.truncated = o.object.get("truncated")
             out_records.append(rec)
-        if not out_records:  # every object filtered out: say so rather than write nothing
-            out_records.append(Record(file=file, status="error", error_code="no_objects", error_message=(
-                f"no object kept of {result.volume.get('objects_found', 0)} found ({result.volume.get('dropped')})"),
-                request_id=result.request_id or ""))
-        return out_records
+        return out_records  # never empty: a volume with no object left is the server's 422 no_objects, raised
 
     def one(file: str) -> list[Record]:
         try:

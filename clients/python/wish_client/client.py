@@ -405,8 +405,10 @@ class WishClient:
 
         The volume options mirror ``wish mesh-labels``: ``spacing`` (x, y, z voxel size, overriding the file's),
         ``unit``, ``objects`` (``labels`` / ``components`` / ``auto``), ``min_voxels``, ``drop_truncated``,
-        ``labels`` (a subset of label ids). An object that cannot be classified carries its own error; a volume
-        the server cannot read at all raises :class:`WishServerError`.
+        ``labels`` (a subset of label ids). An object that cannot be classified carries its own error, whatever
+        the answer's status (200 all classified, 207 some refused, the common 4xx when all were: proto
+        VolumeResult); a volume that fails as a whole raises :class:`WishServerError` — unreadable, past the time
+        limit, or with no object left after the filters (422 ``no_objects``, its counts in ``details``).
         """
         query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels), **params}
         return self._post_volume("/v1/classify", volume, query, classify=True)
@@ -421,7 +423,14 @@ class WishClient:
 
     def _post_volume(self, path: str, volume: MeshInput, query: dict[str, Any], classify: bool) -> VolumeResult:
         name, content = _mesh_name_and_bytes(volume)
-        doc = self._json("POST", path, body=content, content_type="application/octet-stream", query=query)
+        # Like a batch (_post_meshes): a volume whose objects were all refused alike is a 4xx that still lists
+        # every object; read it like a 200 or a 207. An error without `objects` failed the whole volume.
+        try:
+            doc = self._json("POST", path, body=content, content_type="application/octet-stream", query=query)
+        except WishServerError as e:
+            if not (isinstance(e.document, dict) and isinstance(e.document.get("objects"), list)):
+                raise
+            doc = e.document
         if not isinstance(doc, dict) or "objects" not in doc:
             raise WishServerError(200, "bad_response", "the answer is not a VolumeResult (no `objects`): was the "
                                   "file a label volume?", {}, doc.get("request_id") if isinstance(doc, dict) else None)

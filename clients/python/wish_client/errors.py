@@ -30,7 +30,8 @@ class WishServerError(WishClientError):
         request_id: the server's request id (also sent as the ``X-Request-Id`` header), for its logs.
         retry_after: seconds the server asked us to wait (``Retry-After`` on 503), or ``None``.
         document: the whole JSON body of the answer when it was JSON (a multipart answer whose parts all failed
-            alike is a 4xx with one entry per part in ``document["results"]``), else ``None``.
+            alike is a 4xx with one entry per part in ``document["results"]``; a label volume whose objects all
+            failed alike, one per object in ``document["objects"]``), else ``None``.
     """
 
     def __init__(self, status: int, code: str, message: str, details: dict[str, Any] | None = None,
