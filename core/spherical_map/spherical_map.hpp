@@ -172,8 +172,11 @@ struct SphericalMapOptions {
   // 10,000 vertices left of the flow budget; else it is listed in skipped_for_budget. A flow cut short leaves a
   // surface whose projection folds, and its repair then spends the rest of the chain for nothing (measured on a
   // 10K-vertex UroCell mitochondrion: cMCF started with 0.3 s left, stopped by the budget with 8 flips, 1 s of
-  // repair, the Willmore map held before it was returned). Measured full cMCF fallback attempts there: 0.29–0.43 s.
-  double min_fallback_flow_seconds = 0.5;
+  // repair, the Willmore map held before it was returned). Off by default (0): the chain budget bounds that case
+  // already, and at 0.5 s the rule cost quality (measured: a UroCell lysosome whose cMCF fallback converges in 0.18 s
+  // with K p99 1.44 was skipped with 0.41 s left and ended on the linear map, K p99 4.98; full cMCF fallback
+  // attempts on the mitochondria took 0.18–0.43 s, so no fixed threshold separates the two).
+  double min_fallback_flow_seconds = 0;
   // Added (beyond the paper): an area-aware correction of the returned map when it is Ok (density_equalizing.hpp):
   // none (default: the paper's conformal map) or the density-equalising flow. The corrected map is re-verified
   // (bijectivity: flips, degeneracy, degree); `quality` then describes the corrected map, and the conformal
