@@ -13,6 +13,8 @@
 // --flow-budget S: the flows' soft time budget (SphericalMapOptions::flow_budget_seconds, CPU seconds of the mapping
 // thread per 10,000 vertices; default 2): a generous budget lets every flow run to convergence, so a row's mapped
 // share measures the method rather than the budget.
+// --chain-budget S: the whole chain's CPU budget (SphericalMapOptions::chain_budget_seconds, per 10,000 vertices,
+// default 3; 0 = none). A --flow-budget above it is capped by it (less the linear reserve): raise both.
 // --paired: every row uses only the meshes that every listed method mapped (the same meshes for every method, so
 // rows compare methods on paired data; without it a row has the meshes its own method mapped).
 // --area-correction none,dem: map variants per method (density_equalizing.hpp): "none" is the conformal map,
@@ -147,6 +149,7 @@ int main(int argc, char** argv) {
   std::string csv_out;
   bool paired = false;
   double flow_budget = SphericalMapOptions{}.flow_budget_seconds;
+  double chain_budget = SphericalMapOptions{}.chain_budget_seconds;
   std::vector<std::string> corrections{"none"};
   std::vector<bool> log_options{false, true}, scale_options{false, true};
   auto on_off = [](const std::string& v, const char* off, const char* on) {
@@ -188,6 +191,7 @@ int main(int argc, char** argv) {
     else if (a == "--csv") csv_out = next();
     else if (a == "--paired") paired = true;
     else if (a == "--flow-budget") flow_budget = std::stod(next());
+    else if (a == "--chain-budget") chain_budget = std::stod(next());
     else if (a == "--area-correction") corrections = split_list(next());
     else if (a == "--log") log_options = on_off(next(), "off", "on");
     else if (a == "--scale") scale_options = on_off(next(), "none", "xi1");
@@ -260,6 +264,7 @@ int main(int argc, char** argv) {
         mo.fallback = false;  // one method per row: no mixing
         mo.verification.max_conformal_p99 = max_k_p99;
         mo.flow_budget_seconds = flow_budget;
+        mo.chain_budget_seconds = chain_budget;
         const auto t = std::chrono::steady_clock::now();
         try {
           if (!conformal)

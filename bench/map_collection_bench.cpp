@@ -7,7 +7,8 @@
 // verdicts, and the K p99 distribution (median / p90 / max over bijective maps). Refusal codes are counted below.
 // A second table (the time bound of issue 11: the final answer within 3 CPU s per 10K vertices, scaled with
 // max(1, V/10K)): CPU s per 10K vertices median / p95 / max, meshes over 3 s per 10K, CPU median / max by the method
-// each map ended on, and how many maps a budget stopped (an attempt with stop time_budget or a skipped attempt).
+// each map ended on, and how many maps a budget stopped (an attempt with stop time_budget, a repair the chain budget
+// stopped, or a skipped attempt).
 // Per mesh (stderr): the chain as run, method/stop:flips+degenerate/CPU seconds per attempt, then skipped ones.
 #include <algorithm>
 #include <chrono>
@@ -88,7 +89,8 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
     x->cpu_per_10k.push_back(cpu / std::max(1.0, static_cast<double>(prepared.mesh.vertex_count()) / 1e4));
     x->method_cpu[wish::to_string(r.method_used)].push_back(cpu);
     bool budget_stop = !r.skipped_for_budget.empty();
-    for (const wish::MapAttempt& a : r.attempts) budget_stop = budget_stop || a.stop == wish::FlowStop::TimeBudget;
+    for (const wish::MapAttempt& a : r.attempts)
+      budget_stop = budget_stop || a.stop == wish::FlowStop::TimeBudget || a.repair_budget_stopped;
     x->budget_stops += budget_stop;
     ++x->methods[wish::to_string(r.method_used)];
     ++x->verdicts[wish::to_string(r.verdict)];
@@ -100,6 +102,8 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
              std::to_string(a.quality.flipped_faces) + "+" + std::to_string(a.quality.degenerate_faces) + "/" +
              std::to_string(a.cpu_seconds).substr(0, 4) + "s" +
              (a.quality.repaired_vertices > 0 ? " (repaired " + std::to_string(a.quality.repaired_vertices) + ")" : "") +
+             (a.repair_cpu_seconds >= 0.05 ? " repair " + std::to_string(a.repair_cpu_seconds).substr(0, 4) + "s" : "") +
+             (a.repair_budget_stopped ? " (repair stopped: chain budget)" : "") +
              (std::getenv("WISH_BENCH_STEPS") ? " steps " + std::to_string(a.steps.size()) + " in " +
                                                     std::to_string(step_seconds(a)).substr(0, 4) + "s wall"
                                               : "");
@@ -143,9 +147,19 @@ void print(const Row& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s DIR [DIR...]\n", argv[0]);
+  const auto usage = [&] {
+    std::fprintf(stderr, "usage: %s DIR|LIST.txt|MESH [...]  (DIR recursive: .off .obj .ply .stl; LIST.txt one path a line)\n",
+                 argv[0]);
     return 2;
+  };
+  if (argc < 2) return usage();
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") return usage() - 2;
+    if (!std::filesystem::exists(a)) {
+      std::fprintf(stderr, "%s: no such file or directory: %s\n", argv[0], a.c_str());
+      return usage();
+    }
   }
   std::vector<Row> rows;
   Row all;

@@ -125,7 +125,9 @@ nlohmann::json map_attempt_json(const MapAttempt& a, bool trace) {
   nlohmann::json out{{"method", to_string(a.method)}, {"filtered", a.filtered},
                      {"max_steps", a.max_steps},      {"status", to_string(a.status)},
                      {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)},
-                     {"cpu_seconds", json_number(a.cpu_seconds)}};
+                     {"cpu_seconds", json_number(a.cpu_seconds)},
+                     {"repair_cpu_seconds", json_number(a.repair_cpu_seconds)},
+                     {"repair_budget_stopped", a.repair_budget_stopped}};
   if (a.failed_check != MapCheck::None) out["failed_check"] = to_string(a.failed_check);
   out["stop"] = to_string(a.stop);
   if (!a.message.empty()) out["message"] = a.message;
@@ -168,7 +170,7 @@ nlohmann::json map_block_json(const SphericalMapResult& map, bool quality, bool 
     out["quality"] = map_quality_json(map.quality);
     out["attempts"] = nlohmann::json::array();
     for (const auto& a : map.attempts) out["attempts"].push_back(map_attempt_json(a, trace));
-    // Planned attempts the flow budget stopped before they ran (issue 11: no budget stop is silent).
+    // Planned attempts the flow / chain budget stopped before they ran (issue 11: no budget stop is silent).
     out["skipped_for_budget"] = nlohmann::json::array();
     for (const auto& p : map.skipped_for_budget)
       out["skipped_for_budget"].push_back({{"method", to_string(p.method)}, {"max_steps", p.max_steps}});

@@ -26,6 +26,19 @@ class CpuBudget {
     return b;
   }
 
+  // The same clock stopped `seconds` earlier (a share kept in reserve for later work; unlimited stays unlimited).
+  CpuBudget with_reserve(double seconds) const {
+    CpuBudget b = *this;
+    if (limited_) b.limit_ -= seconds;
+    return b;
+  }
+  // Whichever of the two budgets ends first (both of this thread).
+  CpuBudget earliest(const CpuBudget& other) const {
+    if (!other.limited_) return *this;
+    if (!limited_) return other;
+    return limit_ <= other.limit_ ? *this : other;
+  }
+
   bool limited() const { return limited_; }
   bool expired() const { return limited_ && thread_cpu_seconds() >= limit_; }
   // CPU seconds left (negative once spent; +inf when unlimited).

@@ -192,7 +192,7 @@ Eigen::Matrix2d reference_triangle(const Eigen::Vector3d& p0, const Eigen::Vecto
 
 ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3d& input_vertices,
                                        const Eigen::MatrixX3i& faces, const MapVerificationThresholds& thresholds,
-                                       const ChartUntangleOptions& options) {
+                                       const ChartUntangleOptions& options, const CpuBudget& budget) {
   ChartUntangleResult result;
   const Eigen::Index nv = sphere.rows(), nf = faces.rows();
   if (!sphere.allFinite()) return result;
@@ -262,10 +262,12 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
 
   std::vector<int> local(static_cast<size_t>(nv), -1);
   for (std::vector<int>& cluster : clusters) {
+    if (result.budget_stopped) break;
     std::vector<char> in(static_cast<size_t>(nv), 0);
     for (int v : cluster) in[static_cast<size_t>(v)] = 1;
     bool fixed = false;
     for (int attempt = 0; attempt <= options.max_grow && !fixed; ++attempt) {
+      if ((result.budget_stopped = budget.expired())) break;
       if (attempt > 0) grow(cluster, in, options.grow_rings);
       if (static_cast<int>(cluster.size()) > options.max_cluster_vertices) break;
       // Chart centre and extent.
@@ -344,6 +346,7 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
       double eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(min_det, 0.0), 2));
       double e_prev = solver.energy(eps);
       for (int it = 0; it < options.max_iterations; ++it) {
+        if ((result.budget_stopped = budget.expired())) break;
         for (int s = 0; s < options.newton_steps_per_iteration; ++s)
           if (!solver.newton_step(eps)) break;
         const double e = solver.energy(eps);

@@ -137,7 +137,8 @@ void check_preconditions(const Mesh& mesh) {
 
 MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const SphericalMapOptions& options,
                        const Eigen::VectorXd& input_mass, const Deadline& deadline, const CpuBudget& budget,
-                       const Eigen::MatrixX3d* start, Eigen::MatrixX3d& flowed, Eigen::MatrixX3d& sphere) {
+                       const CpuBudget& repair_budget, const Eigen::MatrixX3d* start, Eigen::MatrixX3d& flowed,
+                       Eigen::MatrixX3d& sphere) {
   const Clock::time_point t0 = Clock::now();
   const double cpu0 = CpuBudget::thread_cpu_seconds();
   MapAttempt attempt;
@@ -180,10 +181,21 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
     mobius = spherical::mobius_balance(sphere, input_mass);
     if (options.untangle) {
       // Foldover-free energy in a chart per cluster first (keeps the map as conformal as it can); the uniform
-      // Tutte relaxation for what it leaves.
-      repaired = spherical::untangle_in_charts(sphere, mesh.vertices, mesh.faces, options.verification).moved_vertices;
-      repaired += spherical::untangle_sphere_map(sphere, mesh.faces, options.verification).moved_vertices;
+      // Tutte relaxation for what it leaves. Both stop when the chain's CPU budget for the repair is spent: what
+      // flips remain then fail the verification below (never accepted).
+      const double repair0 = CpuBudget::thread_cpu_seconds();
+      const spherical::ChartUntangleResult charts =
+          spherical::untangle_in_charts(sphere, mesh.vertices, mesh.faces, options.verification, {}, repair_budget);
+      repaired = charts.moved_vertices;
+      attempt.repair_budget_stopped = charts.budget_stopped;
+      if (!charts.budget_stopped) {
+        const spherical::UntangleResult tutte =
+            spherical::untangle_sphere_map(sphere, mesh.faces, options.verification, {}, repair_budget);
+        repaired += tutte.moved_vertices;
+        attempt.repair_budget_stopped = tutte.budget_stopped;
+      }
       if (repaired > 0) mobius = spherical::mobius_balance(sphere, input_mass);  // the repair moved the centroid a bit
+      attempt.repair_cpu_seconds = CpuBudget::thread_cpu_seconds() - repair0;
     }
   }
   attempt.quality = spherical::measure_map(mesh.vertices, mesh.faces, sphere, options.verification);
@@ -205,6 +217,7 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
                       ", degenerate " + std::to_string(attempt.quality.degenerate_faces) + ", degree " +
                       std::to_string(attempt.quality.degree) + ", K p99 " + std::to_string(attempt.quality.conformal_p99) +
                       ", roundness " + std::to_string(flow.roundness) + ")";
+    if (attempt.repair_budget_stopped) attempt.message += "; repair stopped: chain CPU budget spent";
     if (!flow.message.empty()) attempt.message += "; flow: " + flow.message;
   } else if (flow.status == MapStatus::NotConverged && flow.stop == FlowStop::TimeBudget) {
     // The flow budget is the chain's "stop here": a bijective map of the flow so far is the answer (its distortion
@@ -318,13 +331,17 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   const Eigen::VectorXd input_mass = geometry::lumped_mass(mesh.vertices, mesh.faces);
 
   const std::vector<MapAttemptPlan> plans = plan_attempts(options);
-  // Budget of the flows (scaled with the mesh size); after it, the linear attempts run only without an Ok map.
-  const double budget_seconds =
-      options.flow_budget_seconds * std::max(1.0, static_cast<double>(mesh.vertex_count()) / 10000.0);
-  // CPU time of this thread, not wall-clock: the method a mesh ends on must not depend on the machine's load.
-  const CpuBudget budget = options.flow_budget_seconds > 0
-                               ? CpuBudget::for_this_thread(std::chrono::duration<double>(budget_seconds))
-                               : CpuBudget{};
+  // Budgets scaled with the mesh size, in CPU time of this thread, not wall-clock: the method a mesh ends on must
+  // not depend on the machine's load. The chain budget bounds everything (flows, repair, verification); the flows
+  // stop at their own budget or at the chain's less the reserve for the linear fallback, whichever comes first;
+  // after it, the linear attempts run only without an Ok map.
+  const double scale = std::max(1.0, static_cast<double>(mesh.vertex_count()) / 10000.0);
+  const auto cpu_budget = [](double seconds) {
+    return seconds > 0 ? CpuBudget::for_this_thread(std::chrono::duration<double>(seconds)) : CpuBudget{};
+  };
+  const CpuBudget chain = cpu_budget(options.chain_budget_seconds * scale);
+  const CpuBudget chain_less_reserve = chain.with_reserve(options.linear_reserve_seconds * scale);
+  const CpuBudget budget = cpu_budget(options.flow_budget_seconds * scale).earliest(chain_less_reserve);
 
   SphericalMapResult result;
   std::vector<Eigen::MatrixX3d> flowed(plans.size());
@@ -351,16 +368,28 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     // already held (a provisional one: repaired and distorted) nothing further runs at all — it is the answer.
     // Without an Ok map the linear attempts still run (two V×V solves each, bijective by construction):
     // bijectivity comes before time. Every attempt skipped here is listed in skipped_for_budget.
-    if (!result.attempts.empty() && budget.expired()) {
-      const bool holding_ok = result.attempts[static_cast<size_t>(result.chosen_attempt)].status == MapStatus::Ok;
+    // A fallback flow that starts over with too little of the flow budget left to finish is skipped the same way
+    // (min_fallback_flow_seconds). Not the continuation of a flow ("more steps"): it starts from the flowed
+    // surface, so wherever the budget stops it the map is at least as far along (measured: 4 of 91 UroCell
+    // mitochondria end on it with K p99 ≈ 3 after 0.2–0.4 s; skipping it left them the linear map, K p99 ≈ 6).
+    const bool holding_ok =
+        !result.attempts.empty() && result.attempts[static_cast<size_t>(result.chosen_attempt)].status == MapStatus::Ok;
+    const bool too_little_for_a_flow = plan.method != MapMethod::Linear && start == nullptr &&
+                                       budget.remaining_seconds() < options.min_fallback_flow_seconds * scale;
+    if (!result.attempts.empty() && (budget.expired() || too_little_for_a_flow)) {
       if (plan.method != MapMethod::Linear || holding_ok) {
         result.skipped_for_budget.push_back(plan);
         continue;
       }
     }
     deadline.check("spherical map attempt");
+    // The repair's share: what the chain budget leaves, less the linear reserve for a flow's map (the reserve is
+    // for the linear fallback and, with an Ok map held, keeps the verification after the repair inside the chain
+    // budget); the linear attempts' repair may use the rest.
+    const CpuBudget& repair_budget = plan.method != MapMethod::Linear ? chain_less_reserve : chain;
     Eigen::MatrixX3d sphere;
-    MapAttempt attempt = run_attempt(mesh, plan, options, input_mass, deadline, budget, start, flowed[k], sphere);
+    MapAttempt attempt =
+        run_attempt(mesh, plan, options, input_mass, deadline, budget, repair_budget, start, flowed[k], sphere);
     const bool first = result.attempts.empty();
     const bool ok = attempt.status == MapStatus::Ok;
     // An Ok map that needed the local repair and is still distorted is provisional: the rest of the chain (within

@@ -9,7 +9,8 @@
 
 namespace wish::spherical {
 UntangleResult untangle_sphere_map(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces,
-                                   const MapVerificationThresholds& thresholds, const UntangleOptions& options) {
+                                   const MapVerificationThresholds& thresholds, const UntangleOptions& options,
+                                   const CpuBudget& budget) {
   UntangleResult result;
   const Eigen::Index nv = sphere.rows(), nf = faces.rows();
   if (!sphere.allFinite()) return result;
@@ -53,13 +54,16 @@ UntangleResult untangle_sphere_map(Eigen::MatrixX3d& sphere, const Eigen::Matrix
   for (int round = 0; round < options.max_rounds && patch.size() <= limit; ++round) {
     // Gauss–Seidel converges in O(patch diameter²) sweeps; a fixed minimum plus the patch size covers small patches.
     const int sweeps = std::min(options.max_sweeps, std::max(options.sweeps, static_cast<int>(patch.size())));
-    for (int sweep = 0; sweep < sweeps; ++sweep)
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+      if ((result.budget_stopped = budget.expired())) break;
       for (int v : patch) {
         Eigen::Vector3d s = Eigen::Vector3d::Zero();
         for (int w : neighbours[static_cast<size_t>(v)]) s += sphere.row(w).transpose();
         const double norm = s.norm();
         if (norm > 0) sphere.row(v) = (s / norm).transpose();
       }
+    }
+    if (result.budget_stopped) break;
     bad = find_bad();
     if (bad.empty()) break;
     for (Eigen::Index f : bad)
@@ -67,7 +71,7 @@ UntangleResult untangle_sphere_map(Eigen::MatrixX3d& sphere, const Eigen::Matrix
     grow();
   }
   result.bad_faces_after = static_cast<long>(bad.size());
-  if (!bad.empty()) {  // no success: leave the map as it was (the caller reports the original failure)
+  if (result.budget_stopped || !bad.empty()) {  // no success: leave the map as it was (the caller reports the original failure)
     sphere = original;
     result.bad_faces_after = result.bad_faces_before;
     return result;

@@ -11,9 +11,13 @@
 // triangle shapes, so needles and compressed slivers open up. The patch grows by one ring per round while bad
 // faces remain, up to max_fraction of the vertices. The map elsewhere is untouched; the caller re-verifies
 // everything (the repair is never trusted by itself) and reports the number of moved vertices.
+// Bounded by `budget` (the map chain's CPU budget, issue 11): checked before every sweep; when it is spent the
+// relaxation stops, the map is left as it was and budget_stopped is set (the caller's verification then fails
+// the map on its remaining flips: a map with flips is never accepted).
 
 #include <Eigen/Core>
 
+#include "core/common/cpu_budget.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 
 namespace wish::spherical {
@@ -30,10 +34,12 @@ struct UntangleOptions {
 struct UntangleResult {
   long bad_faces_before = 0, bad_faces_after = 0;  // flipped or numerically degenerate
   long moved_vertices = 0;
+  bool budget_stopped = false;  // the CPU budget ran out before the bad faces were gone (map left unchanged)
 };
 
 // `sphere` (V×3 unit vectors) is modified in place only where the patch is relaxed.
 UntangleResult untangle_sphere_map(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces,
-                                   const MapVerificationThresholds& thresholds, const UntangleOptions& options = {});
+                                   const MapVerificationThresholds& thresholds, const UntangleOptions& options = {},
+                                   const CpuBudget& budget = {});
 
 }  // namespace wish::spherical

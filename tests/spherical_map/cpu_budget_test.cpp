@@ -58,5 +58,18 @@ TEST(CpuBudget, AnotherThreadsWorkIsNotCounted) {
   EXPECT_FALSE(b.expired());
 }
 
+TEST(CpuBudget, AReserveEndsTheSameClockEarlierAndEarliestPicksTheTighterBudget) {
+  const CpuBudget b = CpuBudget::for_this_thread(std::chrono::seconds(100));
+  // Remaining time of two budgets read at (almost) the same instant differs by the reserve.
+  const CpuBudget r = b.with_reserve(30);
+  EXPECT_NEAR(b.remaining_seconds() - r.remaining_seconds(), 30, 1e-3);
+  EXPECT_TRUE(b.with_reserve(1000).expired());  // a reserve larger than the budget: spent already
+  EXPECT_FALSE(CpuBudget{}.with_reserve(1000).limited());  // unlimited stays unlimited
+  EXPECT_NEAR(b.earliest(r).remaining_seconds(), r.remaining_seconds(), 1e-3);
+  EXPECT_NEAR(r.earliest(b).remaining_seconds(), r.remaining_seconds(), 1e-3);
+  EXPECT_NEAR(CpuBudget{}.earliest(r).remaining_seconds(), r.remaining_seconds(), 1e-3);
+  EXPECT_NEAR(r.earliest(CpuBudget{}).remaining_seconds(), r.remaining_seconds(), 1e-3);
+}
+
 }  // namespace
 }  // namespace wish

@@ -36,6 +36,7 @@ SphericalMapOptions corrected_cmcf() {
   SphericalMapOptions o;
   o.method = MapMethod::Cmcf;
   o.flow_budget_seconds = 0;  // no CPU budget: the same map under any load
+  o.chain_budget_seconds = 0;
   o.area_correction.method = AreaCorrection::DensityEqualizing;
   o.area_correction.budget_seconds = 0;
   return o;

@@ -100,6 +100,7 @@ TEST(FallbackChain, RecordsEveryAttemptAndReturnsTheChosenOne) {
   o.verification.max_conformal_p99 = 1.0;
   o.verification.strict_conformal_bound = true;  // the bound refuses only when asked to
   o.flow_budget_seconds = 0;
+  o.chain_budget_seconds = 0;
   const SphericalMapResult r = compute_spherical_map(ellipsoid, o);
   EXPECT_FALSE(r.ok());
   ASSERT_GE(r.attempts.size(), 3u);

@@ -69,6 +69,7 @@ TEST(SharedMeshSweep, EveryClosedGenus0MeshGetsAVerifiedMap) {
     // would cut the nuclei's Willmore flows; the time is measured by bench/map_collection_bench.
     SphericalMapOptions options;
     options.flow_budget_seconds = 0;
+    options.chain_budget_seconds = 0;
     const SphericalMapResult r = compute_spherical_map(prepared.mesh, options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const MapAttempt& first = r.attempts.front();
