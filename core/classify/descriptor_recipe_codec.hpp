@@ -66,7 +66,6 @@ void visit_recipe(Visitor& v, Recipe& d) {
     m.legacy_field("flow_budget_seconds", d.map.flow_budget_seconds, 0.0);
     m.legacy_field("chain_budget_seconds", d.map.chain_budget_seconds, 0.0);
     m.legacy_field("linear_reserve_seconds", d.map.linear_reserve_seconds, 0.0);
-    m.legacy_field("min_fallback_flow_seconds", d.map.min_fallback_flow_seconds, 0.0);
     // Recipe version 2: the area-aware correction after the map; files of version 1 had none (the conformal map).
     m.legacy_group("area_correction", [&](Visitor& a) {
       auto& o = d.map.area_correction;

@@ -368,15 +368,9 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     // already held (a provisional one: repaired and distorted) nothing further runs at all — it is the answer.
     // Without an Ok map the linear attempts still run (two V×V solves each, bijective by construction):
     // bijectivity comes before time. Every attempt skipped here is listed in skipped_for_budget.
-    // A fallback flow that starts over with too little of the flow budget left to finish is skipped the same way
-    // (min_fallback_flow_seconds). Not the continuation of a flow ("more steps"): it starts from the flowed
-    // surface, so wherever the budget stops it the map is at least as far along (measured: 4 of 91 UroCell
-    // mitochondria end on it with K p99 ≈ 3 after 0.2–0.4 s; skipping it left them the linear map, K p99 ≈ 6).
     const bool holding_ok =
         !result.attempts.empty() && result.attempts[static_cast<size_t>(result.chosen_attempt)].status == MapStatus::Ok;
-    const bool too_little_for_a_flow = plan.method != MapMethod::Linear && start == nullptr &&
-                                       budget.remaining_seconds() < options.min_fallback_flow_seconds * scale;
-    if (!result.attempts.empty() && (budget.expired() || too_little_for_a_flow)) {
+    if (!result.attempts.empty() && budget.expired()) {
       if (plan.method != MapMethod::Linear || holding_ok) {
         result.skipped_for_budget.push_back(plan);
         continue;

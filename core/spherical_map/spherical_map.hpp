@@ -167,16 +167,6 @@ struct SphericalMapOptions {
   // Added: CPU seconds per 10,000 vertices kept for the linear fallback while no Ok map is held (two V×V solves and
   // the repair of their map; measured 0.04–0.36 CPU s on 10K-vertex UroCell mitochondria, 0.21 s on camel).
   double linear_reserve_seconds = 0.4;
-  // Added: a fallback FLOW that starts over (after the first attempt; not a continuation, "more steps", which starts
-  // from the flowed surface and gives a usable map wherever it stops) starts only with at least this many CPU s per
-  // 10,000 vertices left of the flow budget; else it is listed in skipped_for_budget. A flow cut short leaves a
-  // surface whose projection folds, and its repair then spends the rest of the chain for nothing (measured on a
-  // 10K-vertex UroCell mitochondrion: cMCF started with 0.3 s left, stopped by the budget with 8 flips, 1 s of
-  // repair, the Willmore map held before it was returned). Off by default (0): the chain budget bounds that case
-  // already, and at 0.5 s the rule cost quality (measured: a UroCell lysosome whose cMCF fallback converges in 0.18 s
-  // with K p99 1.44 was skipped with 0.41 s left and ended on the linear map, K p99 4.98; full cMCF fallback
-  // attempts on the mitochondria took 0.18–0.43 s, so no fixed threshold separates the two).
-  double min_fallback_flow_seconds = 0;
   // Added (beyond the paper): an area-aware correction of the returned map when it is Ok (density_equalizing.hpp):
   // none (default: the paper's conformal map) or the density-equalising flow. The corrected map is re-verified
   // (bijectivity: flips, degeneracy, degree); `quality` then describes the corrected map, and the conformal
@@ -280,10 +270,9 @@ struct SphericalMapResult {
   // Added: the operator of the returned map's attempt (mollification epsilon, zero-area faces, negative weights
   // before, flips done).
   geometry::IntrinsicStats operator_stats;
-  // Added: planned attempts of the chain that did not run because the flow budget was spent or too little of it was
-  // left for a fallback flow (min_fallback_flow_seconds), in plan order; the running flow's own stop is its
-  // attempt's FlowStop::TimeBudget, a repair's stop its attempt's repair_budget_stopped. Empty when the budget
-  // stopped nothing.
+  // Added: planned attempts of the chain that did not run because the flow budget was spent, in plan order; the
+  // running flow's own stop is its attempt's FlowStop::TimeBudget, a repair's stop its attempt's
+  // repair_budget_stopped. Empty when the budget stopped nothing.
   std::vector<MapAttemptPlan> skipped_for_budget;
   // Added: the area-aware correction of the returned map (stop NotRun when options.area_correction is none or the
   // map is not Ok).
