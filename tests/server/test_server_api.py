@@ -224,9 +224,8 @@ class ServerApiTest(unittest.TestCase):
     def test_access_log_line(self):
         r = self.server.post_mesh("/v1/describe", self.sphere_off, headers={"X-Request-Id": "access-log-check"})
         self.assertEqual(r.status, 200)
-        log = self.server.log_text()
-        line = [l for l in log.splitlines() if "request_id=access-log-check" in l]
-        self.assertTrue(line, log[-2000:])
+        line = self.server.wait_for_log_lines("request_id=access-log-check")
+        self.assertTrue(line, self.server.log_text()[-2000:])
         for token in ("route=/v1/describe", "status=200", "vertices=162", "faces=320", "duration_ms=", "bytes_in="):
             self.assertIn(token, line[0])
 

@@ -152,14 +152,8 @@ class ServerAuthAndTimeoutTest(unittest.TestCase):
         with h.Server(args=["--json-log"]) as s:
             s.request("GET", "/healthz", headers={"X-Request-Id": "json-log-check"})
 
-            def complete_lines():
-                # The access line is written after the response is sent, and a line being written has no newline yet:
-                # wait for the line, then parse only whole lines.
-                text = s.log_text()
-                return [l for l in text[:text.rfind("\n") + 1].splitlines() if l.strip()]
-
-            self.assertTrue(h.wait_for(lambda: any("json-log-check" in l for l in complete_lines()), timeout=30))
-            parsed = [json.loads(l) for l in complete_lines()]  # every line is one JSON object
+            self.assertTrue(s.wait_for_log_lines("json-log-check"))
+            parsed = [json.loads(l) for l in s.complete_log_lines()]  # every line is one JSON object
             access = [p for p in parsed if p.get("request_id") == "json-log-check"]
             self.assertEqual(access[0]["status"], 200)
             self.assertEqual(access[0]["route"], "/healthz")

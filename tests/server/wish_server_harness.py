@@ -143,6 +143,23 @@ class Server:
         with open(self.log_path, "rb") as f:
             return f.read().decode(errors="replace")
 
+    def complete_log_lines(self):
+        """The log's whole lines (a line being written has no newline yet)."""
+        text = self.log_text()
+        return [l for l in text[:text.rfind("\n") + 1].splitlines() if l.strip()]
+
+    def wait_for_log_lines(self, marker, timeout=30):
+        """The whole log lines containing marker, once there is one (the access line is written after the response
+        is sent, so a test reading the log right after its answer must wait for it); [] after timeout."""
+        found = []
+
+        def seen():
+            found[:] = [l for l in self.complete_log_lines() if marker in l]
+            return bool(found)
+
+        wait_for(seen, timeout=timeout)
+        return found
+
     def request(self, method, path, body=None, headers=None, timeout=120):
         conn = http.client.HTTPConnection("127.0.0.1", self.port, timeout=timeout)
         try:
