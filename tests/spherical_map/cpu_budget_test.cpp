@@ -30,8 +30,10 @@ TEST(CpuBudget, SleepingDoesNotSpendIt) {
 }
 
 TEST(CpuBudget, ComputingSpendsIt) {
-  const CpuBudget b = CpuBudget::for_this_thread(std::chrono::milliseconds(50));
+  // `start` is read before the budget is made, so the budget's clock starts no earlier than `start` and expiry
+  // implies used >= 50 ms exactly (read after, the two reads' gap made used fall a few ns short: CI, 0.0499996).
   const double start = CpuBudget::thread_cpu_seconds();
+  const CpuBudget b = CpuBudget::for_this_thread(std::chrono::milliseconds(50));
   // Work until the budget reports expiry; bounded (10 s of CPU would mean the clock does not advance).
   volatile double sink = 0;
   long rounds = 0;
