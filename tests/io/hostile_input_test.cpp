@@ -1,6 +1,5 @@
 // Hand-made hostile inputs: each is refused with the documented code and a position, quickly and without
 // allocating what the header claims.
-#include <chrono>
 #include <cstring>
 #include <string>
 
@@ -23,8 +22,9 @@ WishError refusal(const std::string& bytes, ReadOptions options = {}) {
   return WishError(ErrorCategory::Internal, "none", "none");
 }
 
+// Refused by the limit, not by the allocator: reserving 1e12 faces first would end in std::bad_alloc (another
+// error) or in gigabytes touched, never in limit_exceeded naming the header's count.
 TEST(HostileInput, HeaderClaimingTrillionFacesIsALimitBeforeAllocation) {
-  const auto start = std::chrono::steady_clock::now();
   for (const std::string& bytes : {std::string("OFF\n3 1000000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
                                    std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                                "property float z\nelement face 1000000000000\nproperty list uchar int vertex_indices\n"
@@ -36,7 +36,6 @@ TEST(HostileInput, HeaderClaimingTrillionFacesIsALimitBeforeAllocation) {
     EXPECT_EQ(e.category(), ErrorCategory::TooLarge);
     EXPECT_EQ(std::get<std::int64_t>(e.details().at("value")), 1000000000000);
   }
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
 }
 
 TEST(HostileInput, BinaryStlClaimingMoreTrianglesThanLimit) {
