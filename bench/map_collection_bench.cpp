@@ -1,6 +1,7 @@
 // Map acceptance and time over mesh collections (issue 11): one row per directory and one for all of them.
 //   map_collection_bench DIR|LIST.txt|MESH [...]   (DIR: recursive, .off .obj .ply .stl; LIST.txt: one path a line)
-// Per mesh: read → prepare_for_mapping → compute_spherical_map with the default options. Columns: meshes found,
+// Per mesh: read → prepare_for_mapping → compute_spherical_map with the default options (--method M: the chain
+// that starts with M, as a model whose recipe has that method runs it; default willmore). Columns: meshes found,
 // accepted by validation (closed genus-0 manifold), 0-flip rate and Ok rate of the accepted, map time median / p95
 // / max (wall-clock seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1) and the same in CPU
 // seconds of the mapping thread (what the flow budget counts; load-independent), the method each map ended on, the
@@ -56,7 +57,7 @@ double step_seconds(const wish::MapAttempt& a) {
   return s;
 }
 
-void map_one(const std::filesystem::path& path, Row& row, Row& all) {
+void map_one(const std::filesystem::path& path, const wish::SphericalMapOptions& options, Row& row, Row& all) {
   ++row.found;
   ++all.found;
   wish::PreparedMesh prepared;
@@ -74,7 +75,7 @@ void map_one(const std::filesystem::path& path, Row& row, Row& all) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = wish::CpuBudget::thread_cpu_seconds();
-  const wish::SphericalMapResult r = wish::compute_spherical_map(prepared.mesh);
+  const wish::SphericalMapResult r = wish::compute_spherical_map(prepared.mesh, options);
   const double cpu = wish::CpuBudget::thread_cpu_seconds() - cpu0;
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (Row* x : {&row, &all}) {
@@ -148,41 +149,50 @@ void print(const Row& r) {
 
 int main(int argc, char** argv) {
   const auto usage = [&] {
-    std::fprintf(stderr, "usage: %s DIR|LIST.txt|MESH [...]  (DIR recursive: .off .obj .ply .stl; LIST.txt one path a line)\n",
+    std::fprintf(stderr,
+                 "usage: %s [--method willmore|cmcf|linear] DIR|LIST.txt|MESH [...]  (DIR recursive: .off .obj .ply "
+                 ".stl; LIST.txt one path a line)\n",
                  argv[0]);
     return 2;
   };
-  if (argc < 2) return usage();
+  wish::SphericalMapOptions options;
+  std::vector<std::string> inputs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") return usage() - 2;
+    if (a == "--method" && i + 1 < argc) {
+      options.method = wish::map_method_from_name(argv[++i]);
+      continue;
+    }
     if (!std::filesystem::exists(a)) {
       std::fprintf(stderr, "%s: no such file or directory: %s\n", argv[0], a.c_str());
       return usage();
     }
+    inputs.push_back(a);
   }
+  if (inputs.empty()) return usage();
   std::vector<Row> rows;
   Row all;
   all.name = "all";
-  for (int i = 1; i < argc; ++i) {
+  for (const std::string& input : inputs) {
     Row row;
-    row.name = std::filesystem::path(argv[i]).filename().string();
-    if (row.name.empty()) row.name = argv[i];
+    row.name = std::filesystem::path(input).filename().string();
+    if (row.name.empty()) row.name = input;
     std::vector<std::filesystem::path> files;
-    if (std::filesystem::path(argv[i]).extension() == ".txt") {  // a list of mesh paths, one a line
-      std::ifstream list(argv[i]);
+    if (std::filesystem::path(input).extension() == ".txt") {  // a list of mesh paths, one a line
+      std::ifstream list(input);
       for (std::string line; std::getline(list, line);)
         if (!line.empty()) files.push_back(line);
-      row.name = std::filesystem::path(argv[i]).stem().string();
-    } else if (std::filesystem::is_regular_file(argv[i])) {
-      files.push_back(argv[i]);  // one mesh: its own row
+      row.name = std::filesystem::path(input).stem().string();
+    } else if (std::filesystem::is_regular_file(input)) {
+      files.push_back(input);  // one mesh: its own row
     } else
-      for (const auto& e : std::filesystem::recursive_directory_iterator(argv[i])) {
+      for (const auto& e : std::filesystem::recursive_directory_iterator(input)) {
       const std::string ext = e.path().extension().string();
       if (e.is_regular_file() && (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".stl")) files.push_back(e.path());
     }
     std::sort(files.begin(), files.end());
-    for (const auto& f : files) map_one(f, row, all);
+    for (const auto& f : files) map_one(f, options, row, all);
     rows.push_back(std::move(row));
   }
   std::printf("| collection | found | accepted | 0-flip | ok | map s median / p95 / max | map CPU s median / p95 / max | methods | verdicts | K p99 median / p90 / max |\n");
