@@ -127,7 +127,8 @@ nlohmann::json map_attempt_json(const MapAttempt& a, bool trace) {
                      {"steps", a.steps.size()},       {"seconds", json_number(a.seconds)},
                      {"cpu_seconds", json_number(a.cpu_seconds)},
                      {"repair_cpu_seconds", json_number(a.repair_cpu_seconds)},
-                     {"repair_budget_stopped", a.repair_budget_stopped}};
+                     {"repair_budget_stopped", a.repair_budget_stopped},
+                     {"everted", a.everted}};
   if (a.failed_check != MapCheck::None) out["failed_check"] = to_string(a.failed_check);
   out["stop"] = to_string(a.stop);
   if (!a.message.empty()) out["message"] = a.message;

@@ -41,6 +41,8 @@ void visit_recipe(Visitor& v, Recipe& d) {
       c.field("roundness_stall", o.roundness_stall);
       c.field("min_steps_before_stall", o.min_steps_before_stall);
       c.field("fallback_max_steps", o.fallback_max_steps);
+      // Older files stopped at the first step that did not lower R (and flowed to their last surface).
+      c.legacy_field("stall_patience", o.stall_patience, 1);
     });
     m.group("linear", [&](Visitor& l) {
       l.field("min_weight", d.map.linear.min_weight);

@@ -29,7 +29,8 @@ double robust_willmore_energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i&
 }  // namespace
 
 FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverKind solver_kind,
-                     const geometry::IntrinsicOptions& laplacian, const Deadline& deadline, const CpuBudget& budget) {
+                     const geometry::IntrinsicOptions& laplacian, const Deadline& deadline, const CpuBudget& budget,
+                     const Eigen::MatrixX3d* start) {
   FlowResult result;
   const Eigen::MatrixX3i& faces = mesh.faces;
   linalg::CholeskyOptions copt;
@@ -48,14 +49,32 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
   Eigen::SparseMatrix<double> mass_matrix(x.rows(), x.rows());
   mass_matrix.setIdentity();
   Eigen::VectorXd mass = op.mass;
+  if (start) {  // continue an earlier run: its surface and that surface's mass, the input's L₀
+    x = *start;
+    mass = geometry::lumped_mass(faces, geometry::mollified_face_areas(x, faces, laplacian.mollify_delta), x.rows());
+  }
   result.initial_energy = result.energy = robust_willmore_energy(x, faces, laplacian);
   result.initial_roundness = result.roundness = geometry::roundness(x, mass);
   result.vertices = x;
   Eigen::SparseMatrix<double> system;
   bool converged = result.roundness < options.roundness_tolerance;
+  // The roundest surface so far and the step it came from: on elongated shapes R is not monotone (it can fall to
+  // 0.02 and climb back to 0.4 when thin parts pinch), so the flow hands back its roundest surface, not its last.
+  Eigen::MatrixX3d roundest = x;
+  double roundest_r = result.roundness, roundest_energy = result.energy;
+  int roundest_step = 0;
+  const auto keep_roundest = [&] {
+    if (roundest_r < result.roundness) {
+      result.last = std::move(result.vertices);
+      result.vertices = roundest;
+      result.roundness = roundest_r;
+      result.energy = roundest_energy;
+    }
+  };
   for (int step = 1; step <= options.max_steps && !converged; ++step) {
     deadline.check("cmcf step");
-    if (budget.expired()) {  // soft budget of the chain: keep the surface so far, verified as it is
+    if (budget.expired()) {  // soft budget of the chain: keep the (roundest) surface so far, verified as it is
+      keep_roundest();
       result.status = MapStatus::NotConverged;
       result.failed_check = MapCheck::TimeBudget;
       result.stop = FlowStop::TimeBudget;
@@ -107,18 +126,26 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
     result.vertices = x;
     result.roundness = rec.roundness;
     result.energy = rec.energy;
-    const double previous = step > 1 ? result.steps[result.steps.size() - 2].roundness : result.initial_roundness;
     converged = rec.roundness < options.roundness_tolerance;
-    if (!converged && step >= options.min_steps_before_stall &&
-        previous - rec.roundness < options.roundness_stall * previous) {
-      // Stalled: R no longer falls (Kazhdan et al. run to this point); judged by verification like a plateau.
-      result.message = "stalled: roundness " + std::to_string(rec.roundness) + " after " + std::to_string(step) + " steps";
+    if (rec.roundness < (1.0 - options.roundness_stall) * roundest_r) roundest_step = step;
+    if (rec.roundness < roundest_r) {
+      roundest = x;
+      roundest_r = rec.roundness;
+      roundest_energy = rec.energy;
+    }
+    if (!converged && step >= options.min_steps_before_stall && step - roundest_step >= options.stall_patience) {
+      // Stalled: R has not fallen by roundness_stall for stall_patience steps (Kazhdan et al. run to this point);
+      // judged by verification like a plateau.
+      keep_roundest();
+      result.message = "stalled: roundness " + std::to_string(roundest_r) + " (step " + std::to_string(roundest_step) +
+                       ") not bettered in " + std::to_string(step - roundest_step) + " steps";
       result.stop = FlowStop::RoundnessPlateau;
       return result;
     }
   }
   if (converged) result.stop = FlowStop::Converged;
   if (!converged) {
+    keep_roundest();
     result.hit_step_cap = true;
     result.status = MapStatus::NotConverged;
     result.failed_check = MapCheck::Roundness;

@@ -12,7 +12,10 @@
 namespace wish::spherical {
 
 struct FlowResult {
-  Eigen::MatrixX3d vertices;
+  Eigen::MatrixX3d vertices;          // the surface to project: the last one, or (cMCF) the roundest of the flow
+  // The flow's last surface where `vertices` is an earlier, rounder one (cMCF stopped at its cap or a stall); empty
+  // otherwise. A continued flow starts from here: restarting from `vertices` would replay the steps after it.
+  Eigen::MatrixX3d last;
   std::vector<FlowStepRecord> steps;  // accepted and rejected, in order
   MapStatus status = MapStatus::Ok;   // Ok (a stopping criterion was met), NotConverged or SolverFailed
   MapCheck failed_check = MapCheck::None;

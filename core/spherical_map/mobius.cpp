@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Cholesky>
+
 namespace wish::spherical {
 namespace {
 
@@ -15,6 +17,22 @@ void apply_mobius(Eigen::MatrixX3d& sphere, const Eigen::Vector3d& a) {
   }
 }
 
+// The Newton step for the boost, taken at a = 0 of the CURRENT map (each accepted step re-centres the map, so the
+// next step starts at 0 again). F(a) = Σ w_i log(|u_i − a|² / (1 − |a|²)) (Σ w_i = 1) has, at a = 0,
+//   ∇F = −2c,  ∇²F = 4 (I − S),  c = Σ w_i u_i,  S = Σ w_i u_i u_iᵀ  (trace S = 1, so I − S ⪰ 0),
+// and Σ w_i T_a(u_i) = −(1 − |a|²)/2 ∇F(a): the balanced map is F's stationary point. Newton: a = ½ (I − S)⁻¹ c.
+// For an even spread of weight (S = I/3) that is 0.75 c, close to the damped fixed point's 0.5 c; when the weight
+// sits near two antipodal caps (the map of a long shape: S has an eigenvalue near 1) the fixed point crawls along
+// that axis and Newton does not.
+Eigen::Vector3d newton_boost(const Eigen::MatrixX3d& sphere, const Eigen::VectorXd& w, const Eigen::Vector3d& c) {
+  const Eigen::Matrix3d s = sphere.transpose() * w.asDiagonal() * sphere;
+  const Eigen::Matrix3d h = Eigen::Matrix3d::Identity() - s;
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(h);
+  Eigen::Vector3d a = 0.5 * ldlt.solve(c);
+  if (ldlt.info() != Eigen::Success || !a.allFinite() || a.dot(c) <= 0) a = 0.5 * c;  // (I − S) singular: all weight on one axis
+  return a;
+}
+
 }  // namespace
 
 MobiusResult mobius_balance(Eigen::MatrixX3d& sphere, const Eigen::VectorXd& weights, const MobiusOptions& options) {
@@ -22,21 +40,26 @@ MobiusResult mobius_balance(Eigen::MatrixX3d& sphere, const Eigen::VectorXd& wei
   const Eigen::VectorXd w = weights / weights.sum();
   auto centroid = [&] { return Eigen::Vector3d(sphere.transpose() * w); };
   Eigen::Vector3d c = centroid();
-  double alpha = options.damping;
   for (int it = 0; it < options.max_iterations; ++it) {
     result.centroid = c.norm();
     if (!(result.centroid >= options.tolerance)) break;  // also stops on NaN
+    // A Newton step, kept inside the ball and halved until the centroid shrinks (a line search on |c|).
+    Eigen::Vector3d a = newton_boost(sphere, w, c);
+    if (a.norm() > options.max_boost) a *= options.max_boost / a.norm();
     const Eigen::MatrixX3d before = sphere;
-    apply_mobius(sphere, alpha * c);
-    ++result.iterations;
-    const Eigen::Vector3d next = centroid();
-    if (next.norm() > result.centroid) {  // overshoot: undo and damp harder
-      sphere = before;
-      alpha *= 0.5;
-      if (alpha < 1e-6) break;
-      continue;
+    bool accepted = false;
+    for (int halvings = 0; halvings < options.max_halvings && !accepted; ++halvings, a *= 0.5) {
+      apply_mobius(sphere, a);
+      const Eigen::Vector3d next = centroid();
+      if (next.norm() < result.centroid) {
+        c = next;
+        accepted = true;
+      } else {
+        sphere = before;
+      }
     }
-    c = next;
+    ++result.iterations;
+    if (!accepted) break;  // no boost along the Newton direction lowers |c|: round-off level
   }
   result.centroid = c.norm();
   result.converged = result.centroid < options.tolerance;

@@ -154,8 +154,8 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
     flow = spherical::willmore_flow(mesh, w, options.solver, options.laplacian, deadline, start, budget);
   } else if (plan.method == MapMethod::Cmcf) {
     CmcfOptions c = options.cmcf;
-    c.max_steps = plan.max_steps;
-    flow = spherical::cmcf_flow(mesh, c, options.solver, options.laplacian, deadline, budget);
+    c.max_steps = start ? plan.max_steps - options.cmcf.max_steps : plan.max_steps;
+    flow = spherical::cmcf_flow(mesh, c, options.solver, options.laplacian, deadline, budget, start);
   } else {
     LinearMapOptions l = options.linear;
     l.always_clamp = l.always_clamp || plan.clamp;
@@ -168,13 +168,24 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
   if (flow.on_sphere) {
     sphere = flow.vertices;  // the linear method maps to the sphere directly
   } else {
+    // An everted flowed surface is mirrored first. cMCF can pass a thin, flattened shape through a flat state and
+    // re-inflate it inside out (signed volume +1.07 → −4.11 over 15 steps on a UroCell mitochondrion, with the
+    // Willmore energy peaking at 2e4 in the flat state): the surface ends nearly round, but its radial projection
+    // reverses orientation, so every face reads as flipped (degree −1) although the map is a bijection. A mirror
+    // (z → −z) makes the projection orientation-preserving. K is unchanged (a reflection is an isometry), and so
+    // are the invariants ξ(l), which are O(3)-invariant (sh-and-invariants.md). The flow's equations commute with
+    // the mirror (they act on each coordinate alike), so a continued flow is unaffected.
+    if (geometry::signed_volume(flow.vertices, mesh.faces) < 0) {
+      flow.vertices.col(2) *= -1.0;
+      attempt.everted = true;
+    }
     // Radial projection about the area-weighted centroid, then Möbius balancing with input vertex areas.
     const Eigen::VectorXd mass = geometry::lumped_mass(flow.vertices, mesh.faces);
     const Eigen::Vector3d c = geometry::area_weighted_centroid(flow.vertices, mass);
     sphere = flow.vertices.rowwise() - c.transpose();
     sphere.rowwise().normalize();
   }
-  flowed = std::move(flow.vertices);
+  flowed = flow.last.size() > 0 ? std::move(flow.last) : std::move(flow.vertices);  // where a continued flow starts
   spherical::MobiusResult mobius;
   long repaired = 0;
   if (sphere.allFinite()) {
@@ -294,6 +305,8 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   const MapAttemptPlan cmcf{MapMethod::Cmcf, false, options.cmcf.max_steps};
   const MapAttemptPlan cmcf_long{MapMethod::Cmcf, false,
                                  std::max(options.cmcf.max_steps, options.cmcf.fallback_max_steps)};
+  // After a cMCF attempt that hit its cap: the same flow continued from its surface (attempt 0) up to the long cap.
+  const MapAttemptPlan cmcf_more{MapMethod::Cmcf, false, cmcf_long.max_steps, 0};
   const MapAttemptPlan linear{MapMethod::Linear, false, 1};
   const MapAttemptPlan linear_clamped{MapMethod::Linear, false, 1, -1, true};
   std::vector<MapAttemptPlan> plans;
@@ -308,7 +321,7 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   } else if (options.method == MapMethod::Cmcf) {
     plans.push_back(cmcf);
     if (options.fallback) {
-      if (cmcf_long.max_steps > cmcf.max_steps) plans.push_back(cmcf_long);
+      if (cmcf_more.max_steps > cmcf.max_steps) plans.push_back(cmcf_more);
       plans.push_back(linear);
       plans.push_back(linear_clamped);
       plans.push_back(willmore);
@@ -359,10 +372,6 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     if (plan.clamp && !options.linear.always_clamp && !result.attempts.empty() &&
         result.attempts.back().method == MapMethod::Linear &&
         result.attempts.back().message.find("clamped") != std::string::npos)
-      continue;
-    // cMCF run long after a short cMCF that did not hit its cap would repeat the same run.
-    if (k > 0 && plan.method == MapMethod::Cmcf && plans[k - 1].method == MapMethod::Cmcf &&
-        !result.attempts.back().hit_step_cap)
       continue;
     // The time bound (issue 11): once the flow budget is spent, no further flow starts, and when an Ok map is
     // already held (a provisional one: repaired and distorted) nothing further runs at all — it is the answer.

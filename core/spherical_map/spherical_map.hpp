@@ -93,6 +93,11 @@ struct CmcfOptions {
   // less than this fraction per step.
   double roundness_stall = 1e-3;
   int min_steps_before_stall = 10;
+  // Added: ... for this many steps in a row (1: the first step that does not lower R stops the flow). The flow
+  // returns its roundest surface. 20: on the 91 UroCell mitochondria, patience 1 stalled 15 cMCF flows at R ≈ 0.14
+  // on the way down (their maps failed or came from another method); with 20, 10 of those 15 end on a cMCF map with
+  // K p99 1.4–2.8 (bench/map_collection_bench --method cmcf; the flow budget still bounds the time).
+  int stall_patience = 20;
   // Added: step cap when cMCF runs as a fallback of the Willmore flow: cheap per step (one V×V factorisation), so
   // it is run (nearly) to convergence as Kazhdan et al. do.
   int fallback_max_steps = 200;
@@ -249,6 +254,9 @@ struct MapAttempt {
   double cpu_seconds = 0;            // Added: CPU seconds of the calling thread (what the flow budget counts)
   double repair_cpu_seconds = 0;     // Added: of which the local repair (untangling) of the map
   bool repair_budget_stopped = false;  // Added: the repair stopped because the chain budget was spent
+  // Added: the flowed surface came out inside out (negative signed volume; cMCF through a flat state) and was
+  // mirrored before the radial projection (spherical_map.cpp run_attempt).
+  bool everted = false;
   bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
   bool map_verified = false;         // Added: the map passed verification (it may still be NotConverged)
   int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued

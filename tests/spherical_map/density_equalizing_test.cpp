@@ -35,6 +35,10 @@ Mesh dumbbell() {  // the neck of real_mesh_test (radius 0.15 of the bulbs' 1)
 SphericalMapOptions corrected_cmcf() {
   SphericalMapOptions o;
   o.method = MapMethod::Cmcf;
+  // The conformal maps these figures were measured on: cMCF stopping at its first R plateau. On the rounder map of
+  // the 4:1:1 ellipsoid that patience 20 reaches, the correction lowers |log r| p99 6.06 -> 4.98 but raises its max
+  // 6.21 -> 7.28 (K p99 1.2 -> 206): one more reason it stays off by default (docs/accuracy.md, run C).
+  o.cmcf.stall_patience = 1;
   o.flow_budget_seconds = 0;  // no CPU budget: the same map under any load
   o.chain_budget_seconds = 0;
   o.area_correction.method = AreaCorrection::DensityEqualizing;
