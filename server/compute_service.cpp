@@ -1,5 +1,7 @@
 #include "server/compute_service.hpp"
 
+#include "core/common/error_codes.hpp"
+
 #include "core/pipeline/pipeline.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/api_response.hpp"
@@ -123,6 +125,7 @@ VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) 
   v.objects.drop_truncated = p.drop_truncated;
   v.objects.label_ids = p.labels;
   v.objects.max_objects = config.max_volume_objects;
+  v.surface.max_box_voxels = config.max_object_box_voxels;
   return v;
 }
 
@@ -185,7 +188,12 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
         out.stages["surface"] += surface.timings.extraction + surface.timings.surface + surface.timings.smoothing +
                                  surface.timings.decimation;
         if (!surface.ok) {
-          const ApiError error = to_api_error(WishError(ErrorCategory::Unmappable, surface.refusal_code,
+          // The category (so the status) the code table gives the refusal: 413 for box_too_large, 422 for a
+          // surface that is not genus 0, ...
+          const ErrorCodeInfo* info = find_error_code(surface.refusal_code);
+          const ErrorCategory category =
+              info && info->category ? *info->category : ErrorCategory::Unmappable;
+          const ApiError error = to_api_error(WishError(category, surface.refusal_code,
                                                         surface.refusal, {{"label_id", std::int64_t{object.id}},
                                                                           {"genus", std::int64_t{surface.genus}}}));
           refuse(std::move(entry), error);

@@ -25,7 +25,8 @@ void ServerConfig::finalize() {
   require(max_steps >= 1, "max steps must be >= 1");
   require(time_limit_seconds > 0, "time limit must be > 0");
   require(volume_time_limit_seconds > 0, "volume time limit must be > 0");
-  require(max_volume_voxels > 0 && max_volume_objects > 0, "volume voxel and object limits must be > 0");
+  require(max_volume_voxels > 0 && max_volume_objects > 0 && max_object_box_voxels > 0,
+          "volume voxel, object and object box limits must be > 0");
   require(queue_size >= 0, "queue size must be >= 0");
   require(workers <= 1024 && http_threads <= 4096, "too many threads");
   require(shutdown_grace_seconds >= 0, "grace period must be >= 0");
@@ -48,6 +49,7 @@ std::string ServerConfig::describe() const {
       << "max_steps = " << max_steps << "\n"
       << "max_volume_voxels = " << max_volume_voxels << "\n"
       << "max_volume_objects = " << max_volume_objects << "\n"
+      << "max_object_box_voxels = " << max_object_box_voxels << "\n"
       << "time_limit_seconds = " << time_limit_seconds << "\n"
       << "volume_time_limit_seconds = " << volume_time_limit_seconds << "\n"
       << "queue_size = " << queue_size << "\n"

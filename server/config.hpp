@@ -24,6 +24,9 @@ struct ServerConfig {
   // Label volume uploads (NIfTI-1, TIFF): one result per object.
   std::int64_t max_volume_voxels = 256ll * 256 * 256;  // nx * ny * nz, checked before the voxels are allocated
   std::int64_t max_volume_objects = 1'000;             // distinct objects found in one volume (before the filters)
+  // Voxels of one object's padded bounding box, the memory the surface extraction allocates; an object past it is
+  // refused (413 box_too_large), the others are still described.
+  std::int64_t max_object_box_voxels = 64ll << 20;
 
   double time_limit_seconds = 120;   // per request, from arrival (queue wait included); 504 past it
   double volume_time_limit_seconds = 600;  // the same for a request that uploads a label volume

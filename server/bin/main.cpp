@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
       ->envname("WISH_MAX_VOLUME_VOXELS")->capture_default_str();
   app.add_option("--max-volume-objects", c.max_volume_objects, "Most objects in one uploaded label volume (413 above)")
       ->envname("WISH_MAX_VOLUME_OBJECTS")->capture_default_str();
+  app.add_option("--max-object-box-voxels", c.max_object_box_voxels,
+                 "Most voxels in one label-volume object's padded bounding box (that object: 413 box_too_large)")
+      ->envname("WISH_MAX_OBJECT_BOX_VOXELS")->capture_default_str();
   app.add_option("--volume-time-limit", c.volume_time_limit_seconds,
                  "Seconds per request that uploads a label volume, queue wait included (504 past it)")
       ->envname("WISH_VOLUME_TIME_LIMIT")->capture_default_str();

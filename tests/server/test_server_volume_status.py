@@ -94,6 +94,19 @@ class VolumeStatusTest(unittest.TestCase):
         self.assertEqual(self.raw(self.scene, "?labels=1,2")[0].status, 200)
         self.assertEqual(self.raw(self.scene, "?labels=1,%d" % TORUS, op="classify")[0].status, 207)
 
+    def test_an_object_past_the_box_limit_is_its_own_413(self):
+        # A per-object limit takes its own status, not the 422 of a shape refusal: every object over the box limit
+        # is 413 box_too_large (before, every object refusal was reported as 422), and the volume answer follows.
+        with h.Server(models_dir=h.models_dir_with_default(self.tmp),
+                      args=["--max-object-box-voxels", "100"]) as s:
+            r = s.post_mesh("/v1/describe", self.good)
+            body = r.json()
+            self.assertEqual(r.status, 413, r.body[:400])
+            h.validate("VolumeResult", body)
+            self.assertEqual(self.object_statuses(body), [413] * (self.found - 1))
+            self.assertEqual({o["error"]["code"] for o in body["objects"]}, {"box_too_large"})
+            self.assertEqual(body["error"]["code"], "box_too_large")
+
     def test_no_object_left_is_a_422_error(self):
         # Filtered out: every object found is dropped by one of the filters, and the details count them.
         r, body = self.raw(self.scene, "?labels=1&min_voxels=1000000")
