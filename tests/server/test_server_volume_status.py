@@ -18,7 +18,7 @@ import wish_server_harness as h
 
 SKIP = h.skip_reason_binary()
 sys.path.insert(0, os.path.join(h.SOURCE_DIR, "clients", "python"))
-from wish_client import RetryPolicy, WishClient, WishServerError  # noqa: E402
+from wish_client import DescribeResult, RetryPolicy, VolumeResult, WishClient, WishServerError  # noqa: E402
 
 TORUS = 5  # the scene's genus-1 object (synthetic_volume.py)
 
@@ -181,6 +181,21 @@ class VolumeStatusTest(unittest.TestCase):
             client.describe_volume(("empty.nii", self.empty))
         self.assertEqual((cm.exception.status, cm.exception.code), (422, "no_objects"))
         self.assertEqual(retries, [])  # a refusal of the input is never sent again
+
+    def test_python_client_describe_reads_volume_parts(self):
+        # describe()/classify() take a volume as they take a mesh: alone it is sent as a volume upload, among
+        # meshes as a multipart part; either way it comes back as a VolumeResult, refused objects included.
+        client = WishClient("http://127.0.0.1:%d" % self.server.port, timeout=120)
+        out = client.describe([("scene.nii", self.scene), ("sphere.off", self.sphere), ("torus.nii", self.torus)])
+        self.assertIsInstance(out[0], VolumeResult)
+        self.assertEqual([o.ok for o in out[0].objects], [True] * (self.found - 1) + [False])
+        self.assertIsInstance(out[1], DescribeResult)
+        self.assertIsInstance(out[2], VolumeResult)  # a part whose objects were all refused still lists them
+        self.assertEqual([(o.status, o.error.code) for o in out[2].objects], [(422, "genus_nonzero")])
+        alone = client.classify(("scene.nii", self.scene))
+        self.assertIsInstance(alone, VolumeResult)
+        self.assertEqual(len(alone.objects), self.found)
+        self.assertTrue(all(o.result.label for o in alone.objects if o.ok))
 
 
 if __name__ == "__main__":

@@ -360,7 +360,11 @@ class WishClient:
             doc = e.document
         out: list[tuple[str, dict[str, Any] | WishServerError]] = []
         for (name, _), item in zip(parts, doc.get("results", [])):
-            if "error" in item:
+            if isinstance(item.get("result"), dict) and "objects" in item["result"]:
+                # A label-volume part: its VolumeResult lists every object with its own result or error, also when
+                # the part's status is the common 4xx of objects all refused alike.
+                out.append((item.get("filename", name), item["result"]))
+            elif "error" in item:
                 err = item["error"]
                 out.append((name, WishServerError(int(item.get("status", 422)), str(err.get("code", "error")),
                                                   str(err.get("message", "")), err.get("details") or {},
@@ -372,7 +376,7 @@ class WishClient:
     # ---- endpoints ---------------------------------------------------------------------------------------------
 
     def classify(self, meshes: MeshInput | Sequence[MeshInput], *, model: str | None = None, **params: Any
-                 ) -> ClassifyResult | list[ClassifyResult | WishServerError]:
+                 ) -> ClassifyResult | VolumeResult | list[ClassifyResult | VolumeResult | WishServerError]:
         """Classifies one mesh, or several in one multipart request.
 
         Args:
@@ -382,19 +386,27 @@ class WishClient:
                 part alone (one bad file does not fail the others).
             model: model name (``GET /v1/models``); the server's default model when ``None``.
             params: further query parameters of ``POST /v1/classify`` (``include``, ...; proto/openapi.json).
+
+        A label volume (``.nii``, ``.nii.gz``, ``.tif``, ``.tiff``), alone or as one of the parts, comes back as a
+        :class:`VolumeResult` with one entry per object, as from :meth:`classify_volume`.
         """
+        if _is_single_volume(meshes):
+            return self.classify_volume(meshes, model=model, **params)  # type: ignore[arg-type]
         single, items = self._post_meshes("/v1/classify", meshes, {"model": model, **params})
-        results = [r if isinstance(r, WishServerError) else _parse_classify(name, r) for name, r in items]
+        results = [_parse_item(name, r, classify=True) for name, r in items]
         return results[0] if single else results  # type: ignore[return-value]
 
     def describe(self, meshes: MeshInput | Sequence[MeshInput], **params: Any
-                 ) -> DescribeResult | list[DescribeResult | WishServerError]:
+                 ) -> DescribeResult | VolumeResult | list[DescribeResult | VolumeResult | WishServerError]:
         """Spherical map + SH descriptor ξ(0..Lmax) of one mesh or several (``POST /v1/describe``).
 
-        Same calling convention as :meth:`classify`; ``params`` e.g. ``lmax=15, method="willmore", steps=10``.
+        Same calling convention as :meth:`classify` (label volumes included); ``params`` e.g. ``lmax=15,
+        method="willmore", steps=10``.
         """
+        if _is_single_volume(meshes):
+            return self.describe_volume(meshes, **params)  # type: ignore[arg-type]
         single, items = self._post_meshes("/v1/describe", meshes, params)
-        results = [r if isinstance(r, WishServerError) else _parse_describe(name, r) for name, r in items]
+        results = [_parse_item(name, r, classify=False) for name, r in items]
         return results[0] if single else results  # type: ignore[return-value]
 
     def classify_volume(self, volume: MeshInput, *, model: str | None = None, spacing: Sequence[float] | None = None,
@@ -499,6 +511,24 @@ def _parse_describe(name: str, doc: dict[str, Any]) -> DescribeResult:
         request_id=doc.get("request_id"),
         raw=doc,
     )
+
+
+def _is_single_volume(meshes: Any) -> bool:
+    """One label volume given by a name that says so (a path, or ``(name, bytes)``): sent by the volume calls."""
+    if isinstance(meshes, (str, os.PathLike)):
+        return is_volume_name(meshes)
+    return _is_named_bytes(meshes) and is_volume_name(meshes[0])
+
+
+def _parse_item(name: str, item: dict[str, Any] | WishServerError, classify: bool
+                ) -> ClassifyResult | DescribeResult | VolumeResult | WishServerError:
+    """One entry of an answer: a per-part error, a label volume's VolumeResult (it has ``objects``), or one
+    mesh's result."""
+    if isinstance(item, WishServerError):
+        return item
+    if "objects" in item:
+        return _parse_volume(name, item, classify)
+    return _parse_classify(name, item) if classify else _parse_describe(name, item)
 
 
 def _parse_volume(name: str, doc: dict[str, Any], classify: bool) -> VolumeResult:
