@@ -1,7 +1,8 @@
 // Map acceptance and time over mesh collections (issue 11): one row per directory and one for all of them.
 //   map_collection_bench DIR|LIST.txt|MESH [...]   (DIR: recursive, .off .obj .ply .stl; LIST.txt: one path a line)
 // Per mesh: read → prepare_for_mapping → compute_spherical_map with the default options (--method M: the chain
-// that starts with M, as a model whose recipe has that method runs it; default willmore). Columns: meshes found,
+// that starts with M, as a model whose recipe has that method and the default off-recipe policy, refuse, runs it:
+// prefer_method). Columns: meshes found,
 // accepted by validation (closed genus-0 manifold), 0-flip rate and Ok rate of the accepted, map time median / p95
 // / max (wall-clock seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1) and the same in CPU
 // seconds of the mapping thread (what the flow budget counts; load-independent), the method each map ended on, the
@@ -160,8 +161,9 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") return usage() - 2;
-    if (a == "--method" && i + 1 < argc) {
+    if (a == "--method" && i + 1 < argc) {  // the chain of a model with this recipe method and the refuse policy
       options.method = wish::map_method_from_name(argv[++i]);
+      options.prefer_method = true;
       continue;
     }
     if (!std::filesystem::exists(a)) {

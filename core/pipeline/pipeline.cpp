@@ -80,6 +80,7 @@ PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions
 
 PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptions base) {
   base.map = recipe.map;
+  base.map.prefer_method = recipe.off_recipe == OffRecipePolicy::Refuse;  // another method's map would be refused
   base.sh = recipe.sh;
   base.compute_global_features = base.compute_global_features || recipe.needs_global_features();
   return base;

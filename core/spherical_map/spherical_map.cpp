@@ -230,9 +230,13 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
                       ", roundness " + std::to_string(flow.roundness) + ")";
     if (attempt.repair_budget_stopped) attempt.message += "; repair stopped: chain CPU budget spent";
     if (!flow.message.empty()) attempt.message += "; flow: " + flow.message;
-  } else if (flow.status == MapStatus::NotConverged && flow.stop == FlowStop::TimeBudget) {
+  } else if (flow.status == MapStatus::NotConverged &&
+             (flow.stop == FlowStop::TimeBudget || flow.stop == FlowStop::StepCap)) {
     // The flow budget is the chain's "stop here": a bijective map of the flow so far is the answer (its distortion
     // is in the verdict), as for a stalled flow; running the rest of the chain would only exceed the time bound.
+    // So is the step cap, provisionally: the chain goes on (the same flow continued first) and keeps this map when
+    // what follows does no better (measured: a UroCell vesicle whose cMCF map at the cap was bijective, K p99 2.1,
+    // and whose continued flow ended with 54 flips, had ended on the linear map, K p99 8.1).
     attempt.message = flow.message + "; its map verified";
   } else if (flow.status == MapStatus::NotConverged) {
     attempt.status = MapStatus::NotConverged;
@@ -379,6 +383,11 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     // bijectivity comes before time. Every attempt skipped here is listed in skipped_for_budget.
     const bool holding_ok =
         !result.attempts.empty() && result.attempts[static_cast<size_t>(result.chosen_attempt)].status == MapStatus::Ok;
+    // With prefer_method, an Ok map of the requested method is final against every other method's: only the same
+    // method's later attempts (a continued flow) can still replace it.
+    if (options.prefer_method && holding_ok && plan.method != options.method &&
+        result.attempts[static_cast<size_t>(result.chosen_attempt)].method == options.method)
+      continue;
     if (!result.attempts.empty() && budget.expired()) {
       if (plan.method != MapMethod::Linear || holding_ok) {
         result.skipped_for_budget.push_back(plan);
@@ -397,12 +406,17 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     const bool ok = attempt.status == MapStatus::Ok;
     // An Ok map that needed the local repair and is still distorted is provisional: the rest of the chain (within
     // the budget) may find a map that is bijective as computed and less distorted (measured: the staircase sphere
-    // of real_mesh_test, Willmore stalled + repaired K p99 8.3, cMCF 1.1). The least distorted Ok map is returned.
-    const bool provisional = ok && attempt.quality.repaired_vertices > 0 && attempt.quality.verdict == MapVerdict::Distorted;
+    // of real_mesh_test, Willmore stalled + repaired K p99 8.3, cMCF 1.1). So is the map of a flow that hit its
+    // step cap (its continuation comes next). The least distorted Ok map is returned — of the requested method
+    // first, with prefer_method.
+    const bool provisional = ok && ((attempt.quality.repaired_vertices > 0 && attempt.quality.verdict == MapVerdict::Distorted) ||
+                                    attempt.hit_step_cap);
     const MapAttempt* chosen = first ? nullptr : &result.attempts[static_cast<size_t>(result.chosen_attempt)];
     const bool chosen_ok = chosen && chosen->status == MapStatus::Ok;
-    if (first || (ok && (!chosen_ok || attempt.quality.conformal_p99 < chosen->quality.conformal_p99)) ||
-        (!chosen_ok && less_bad(attempt, *chosen))) {
+    const auto rank = [&](const MapAttempt& a) { return options.prefer_method && a.method != options.method; };
+    const bool better_ok = ok && (!chosen_ok || rank(attempt) < rank(*chosen) ||
+                                  (rank(attempt) == rank(*chosen) && attempt.quality.conformal_p99 < chosen->quality.conformal_p99));
+    if (first || better_ok || (!chosen_ok && less_bad(attempt, *chosen))) {
       result.chosen_attempt = static_cast<int>(result.attempts.size());
       best_sphere = std::move(sphere);
     }

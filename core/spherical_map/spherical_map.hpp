@@ -94,10 +94,11 @@ struct CmcfOptions {
   double roundness_stall = 1e-3;
   int min_steps_before_stall = 10;
   // Added: ... for this many steps in a row (1: the first step that does not lower R stops the flow). The flow
-  // returns its roundest surface. 20: on the 91 UroCell mitochondria, patience 1 stalled 15 cMCF flows at R ≈ 0.14
-  // on the way down (their maps failed or came from another method); with 20, 10 of those 15 end on a cMCF map with
-  // K p99 1.4–2.8 (bench/map_collection_bench --method cmcf; the flow budget still bounds the time).
-  int stall_patience = 20;
+  // returns its roundest surface. Chosen on the 91 UroCell mitochondria (bench/map_collection_bench --method cmcf,
+  // the chain of a cMCF model): patience 1 stalled cMCF at R ≈ 0.14 on the way down, and 76 ended on a cMCF map;
+  // 10: 80; 15: 86; 20: 87, but the longer flows left the fallbacks too little of the CPU budget (2 maps failed,
+  // against 1 at 1, 10 and 15).
+  int stall_patience = 15;
   // Added: step cap when cMCF runs as a fallback of the Willmore flow: cheap per step (one V×V factorisation), so
   // it is run (nearly) to convergence as Kazhdan et al. do.
   int fallback_max_steps = 200;
@@ -177,6 +178,12 @@ struct SphericalMapOptions {
   // (bijectivity: flips, degeneracy, degree); `quality` then describes the corrected map, and the conformal
   // distortion bound (strict_conformal_bound) applies to the conformal map before the correction.
   AreaCorrectionOptions area_correction;
+  // Added: an Ok map made by `method` is kept against any other method's Ok map, whatever their distortion, and
+  // the chain then runs only that method's later attempts. Set for a model whose off-recipe policy refuses other
+  // methods' maps (pipeline.cpp options_for_recipe): for it a bijective map by its own method is an answer and
+  // another method's is a refusal. Off: the least distorted Ok map wins. Not part of the recipe (derived from its
+  // policy), so not in the model file.
+  bool prefer_method = false;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 

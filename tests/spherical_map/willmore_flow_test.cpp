@@ -52,8 +52,29 @@ TEST(WillmoreFlow, SphereStaysSphere) {
   EXPECT_LT(r.quality.roundness, 1e-3);
   EXPECT_LT(r.quality.conformal_max, 1.01);
   EXPECT_EQ(r.quality.flipped_faces, 0);
-  EXPECT_EQ(r.status, MapStatus::NotConverged);  // roundness tolerance 0 cannot be met: reported, not hidden
-  EXPECT_EQ(r.failed_check, MapCheck::Roundness);
+  // Roundness tolerance 0 cannot be met: the flow stops at its step cap, which is reported (stop, message), not
+  // hidden; its map verified (bijective, K 1.0), so like a flow stopped by the CPU budget it is an Ok answer.
+  EXPECT_EQ(r.attempts[0].stop, FlowStop::StepCap);
+  EXPECT_TRUE(r.attempts[0].hit_step_cap);
+  EXPECT_NE(r.attempts[0].message.find("its map verified"), std::string::npos) << r.attempts[0].message;
+  EXPECT_EQ(r.status, MapStatus::Ok);
+  EXPECT_EQ(r.failed_check, MapCheck::None);
+}
+
+TEST(WillmoreFlow, AStepCappedFlowWhoseMapFailsIsNotOk) {
+  // The other side of the rule: at the step cap a map that does not verify is a failure. A 10:1 ellipsoid after
+  // one step is far from round; its radial projection is bijective, so ask for a strict distortion bound it
+  // cannot meet.
+  const Mesh cigar = testing::make_ellipsoid(5.0, 0.5, 0.5, 3);
+  SphericalMapOptions o;
+  o.willmore = fixed_steps(1);
+  o.fallback = false;
+  o.verification.strict_conformal_bound = true;
+  o.verification.max_conformal_p99 = 1.01;
+  const SphericalMapResult r = compute_spherical_map(cigar, o);
+  EXPECT_EQ(r.attempts[0].stop, FlowStop::StepCap);
+  EXPECT_NE(r.status, MapStatus::Ok);
+  EXPECT_EQ(r.failed_check, MapCheck::ConformalDistortion);
 }
 
 TEST(WillmoreFlow, EllipsoidThresholdsEnergyMonotoneRoundnessFalls) {
