@@ -409,13 +409,16 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
     // of real_mesh_test, Willmore stalled + repaired K p99 8.3, cMCF 1.1). So is the map of a flow that hit its
     // step cap (its continuation comes next). The least distorted Ok map is returned — of the requested method
     // first, with prefer_method.
-    const bool provisional = ok && ((attempt.quality.repaired_vertices > 0 && attempt.quality.verdict == MapVerdict::Distorted) ||
-                                    attempt.hit_step_cap);
+    const bool repaired_and_distorted =
+        attempt.quality.repaired_vertices > 0 && attempt.quality.verdict == MapVerdict::Distorted;
+    const bool provisional = ok && (repaired_and_distorted || attempt.hit_step_cap);
     const MapAttempt* chosen = first ? nullptr : &result.attempts[static_cast<size_t>(result.chosen_attempt)];
     const bool chosen_ok = chosen && chosen->status == MapStatus::Ok;
+    // Ok maps are ranked by method (with prefer_method: the requested one first), then by K p99.
     const auto rank = [&](const MapAttempt& a) { return options.prefer_method && a.method != options.method; };
-    const bool better_ok = ok && (!chosen_ok || rank(attempt) < rank(*chosen) ||
-                                  (rank(attempt) == rank(*chosen) && attempt.quality.conformal_p99 < chosen->quality.conformal_p99));
+    const bool better_ok =
+        ok && (!chosen_ok || rank(attempt) < rank(*chosen) ||
+               (rank(attempt) == rank(*chosen) && attempt.quality.conformal_p99 < chosen->quality.conformal_p99));
     if (first || better_ok || (!chosen_ok && less_bad(attempt, *chosen))) {
       result.chosen_attempt = static_cast<int>(result.attempts.size());
       best_sphere = std::move(sphere);
