@@ -6,8 +6,9 @@
 #      and image size printed;
 #   4. the end-to-end tests against running containers, all on 127.0.0.1 with --network host:
 #      tests/deploy/test_container.py (classify, healthcheck, non-root on a read-only root, models volume + reload,
-#      SIGTERM drain) and tests/deploy/test_scale_out_containers.py (N containers behind nginx, one killed and one
-#      restarted under load from the batch client).
+#      SIGTERM drain), tests/deploy/test_nginx_cap.py (nginx's connection cap answered 503 at once) and
+#      tests/deploy/test_scale_out_containers.py (N containers behind nginx, one killed and one restarted under load
+#      from the batch client).
 # When no engine can start, it says why and fails. Containers and images it made carry the names wish-test-*.
 #   WISH_DOCKER_TESTS="test_container"   run only these test modules
 #   WISH_IMAGE=wish:test                 the tag built and tested
@@ -55,7 +56,7 @@ echo "test-docker: image $nginx_image built; size $(docker image inspect -f '{{.
 
 if ((build_only)); then exit 0; fi
 
-modules=${WISH_DOCKER_TESTS:-"test_container test_scale_out_containers"}
+modules=${WISH_DOCKER_TESTS:-"test_container test_nginx_cap test_scale_out_containers"}
 cd tests/deploy
 # shellcheck disable=SC2086
 WISH_IMAGE="$image" WISH_NGINX_IMAGE="$nginx_image" WISH_SOURCE_DIR="$root" PYTHONPATH="$root/clients/python:$root/tests/testing${PYTHONPATH:+:$PYTHONPATH}" \

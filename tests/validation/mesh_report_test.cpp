@@ -122,8 +122,11 @@ TEST(MeshReport, DegenerateFacesAreIssues) {
   EXPECT_EQ(r.zero_area_faces, 1);
   const PreparedMesh p = prepare_for_mapping(m);
   ASSERT_TRUE(has_issue(p, "degenerate_faces"));
-  for (const auto& issue : p.issues)  // only the repeated index is counted: zero area is geometry, not topology
-    if (issue.code == "degenerate_faces") EXPECT_EQ(std::get<std::int64_t>(issue.details.at("degenerate_faces")), 1);
+  for (const auto& issue : p.issues) {  // only the repeated index is counted: zero area is geometry, not topology
+    if (issue.code == "degenerate_faces") {
+      EXPECT_EQ(std::get<std::int64_t>(issue.details.at("degenerate_faces")), 1);
+    }
+  }
 }
 
 TEST(MeshReport, ZeroAreaFacesOfAClosedMeshAreAccepted) {
