@@ -1,4 +1,5 @@
-"""What the container tests share: the docker CLI, free loopback ports, waiting for conditions, the image under test.
+"""What the container tests share: the docker CLI, free loopback ports, waiting for conditions, the images under test
+(the service and nginx) and starting them.
 
 Run by scripts/test-docker.sh, which provides the engine (DOCKER_HOST) and builds the image (WISH_IMAGE). Every
 container runs with ``--network host`` and listens on a free 127.0.0.1 port picked here; containers are named
@@ -19,6 +20,7 @@ from pathlib import Path
 
 SOURCE = Path(os.environ.get("WISH_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 IMAGE = os.environ.get("WISH_IMAGE", "")
+NGINX_IMAGE = os.environ.get("WISH_NGINX_IMAGE", "")
 _names = itertools.count()
 
 
@@ -88,3 +90,26 @@ def remove(name: str) -> None:
 def logs(name: str) -> str:
     r = docker("logs", "--tail", "40", name, check=False)
     return (r.stdout + r.stderr)[-4000:]
+
+
+def nginx_skip_reason() -> str | None:
+    """None when the service image and the nginx image (docker/nginx) can both be run here, else why not."""
+    if reason := skip_reason():
+        return reason
+    if not NGINX_IMAGE:
+        return "WISH_NGINX_IMAGE is not set: run scripts/test-docker.sh"
+    return None
+
+
+def run_nginx(conf_dir: Path, port: int, upstream_ports: list[int], *extra: str, upstream_options: str = "") -> str:
+    """Starts the nginx image on 127.0.0.1:``port`` in front of ``upstream_ports``, through the two include files the
+    image's nginx.conf reads (written into ``conf_dir`` and mounted, as compose and Kubernetes provide them)."""
+    conf_dir.mkdir(parents=True, exist_ok=True)
+    (conf_dir / "wish-listen.conf").write_text(f"listen 127.0.0.1:{port};\n")
+    (conf_dir / "wish-upstream.conf").write_text(
+        "".join(f"server 127.0.0.1:{p}{' ' + upstream_options if upstream_options else ''};\n" for p in upstream_ports))
+    name = container_name()
+    docker("run", "-d", "--name", name, "--network", "host", *extra,
+           "-v", f"{conf_dir / 'wish-listen.conf'}:/etc/nginx/wish-listen.conf:ro",
+           "-v", f"{conf_dir / 'wish-upstream.conf'}:/etc/nginx/wish-upstream.conf:ro", NGINX_IMAGE)
+    return name

@@ -10,11 +10,11 @@ Run by scripts/test-docker.sh (engine + image WISH_NGINX_IMAGE); skipped without
 from __future__ import annotations
 
 import json
-import os
 import re
 import resource
 import shutil
 import socket
+import sys
 import tempfile
 import time
 import unittest
@@ -22,18 +22,8 @@ import urllib.error
 import urllib.request
 from pathlib import Path
 
-from docker_harness import SOURCE, container_name, docker, http_ok, logs, remove, skip_reason, wait_for
+from docker_harness import SOURCE, http_ok, logs, nginx_skip_reason, remove, run_nginx, wait_for
 from loopback import free_ports
-
-NGINX_IMAGE = os.environ.get("WISH_NGINX_IMAGE", "")
-
-
-def _skip() -> str | None:
-    if reason := skip_reason():
-        return reason
-    if not NGINX_IMAGE:
-        return "WISH_NGINX_IMAGE is not set: run scripts/test-docker.sh"
-    return None
 
 
 def configured_cap() -> int:
@@ -53,7 +43,7 @@ def post(url: str) -> tuple[int, dict[str, str], bytes]:
         return e.code, dict(e.headers), e.read()
 
 
-@unittest.skipIf(_skip(), _skip() or "")
+@unittest.skipIf(nginx_skip_reason(), nginx_skip_reason() or "")
 class NginxConnectionCapTest(unittest.TestCase):
     def setUp(self) -> None:
         self.cap = configured_cap()
@@ -63,12 +53,7 @@ class NginxConnectionCapTest(unittest.TestCase):
         self.tmp = Path(tempfile.mkdtemp(prefix="wish-nginx-cap-"))
         self.addCleanup(shutil.rmtree, self.tmp, True)
         self.port, closed_port = free_ports(2)
-        (self.tmp / "wish-listen.conf").write_text(f"listen 127.0.0.1:{self.port};\n")
-        (self.tmp / "wish-upstream.conf").write_text(f"server 127.0.0.1:{closed_port};\n")
-        self.nginx = container_name()
-        docker("run", "-d", "--name", self.nginx, "--network", "host", "--read-only", "--tmpfs", "/tmp",
-               "-v", f"{self.tmp / 'wish-listen.conf'}:/etc/nginx/wish-listen.conf:ro",
-               "-v", f"{self.tmp / 'wish-upstream.conf'}:/etc/nginx/wish-upstream.conf:ro", NGINX_IMAGE)
+        self.nginx = run_nginx(self.tmp, self.port, [closed_port], "--read-only", "--tmpfs", "/tmp")
         self.addCleanup(remove, self.nginx)
         self.base = f"http://127.0.0.1:{self.port}"
         wait_for(lambda: http_ok(f"{self.base}/nginx-healthz"), f"nginx ({logs(self.nginx)})")
@@ -107,9 +92,10 @@ class NginxConnectionCapTest(unittest.TestCase):
 
         wait_for(capped, "a request past the cap answered 503", timeout=20, poll=0.05)
         status, headers, body, seconds = answers[-1]
+        # Printed, not asserted (timings belong in benchmarks): a 503 is the cap's answer, since nginx never queues a
+        # request for an instance, and below the cap the same request got the upstream's 502.
         print(f"\nnginx cap {self.cap}: the request past it answered {status} in {seconds * 1000:.1f} ms "
-              f"({len(answers)} probe(s))", file=__import__("sys").stderr)
-        self.assertLess(seconds, 1.0, "the cap must answer at once, not after a wait")
+              f"({len(answers)} probe(s))", file=sys.stderr)
         self.assertEqual(headers.get("Retry-After"), "1")
         error = json.loads(body)
         self.assertEqual(error["error"]["code"], "unavailable")

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -20,23 +19,14 @@ import threading
 import unittest
 from pathlib import Path
 
-from docker_harness import (SOURCE, container_name, docker, http_ok, logs, metric, remove, run_service,
-                            skip_reason, wait_for)
+from docker_harness import (SOURCE, container_name, docker, http_ok, logs, metric, nginx_skip_reason, remove,
+                            run_nginx, run_service, wait_for)
 from loopback import free_ports
 
-NGINX_IMAGE = os.environ.get("WISH_NGINX_IMAGE", "")
 N_INSTANCES = 3
 N_MESHES = 240
 # The two largest closed genus-0 bundled meshes (~0.1 s each): enough work for the run to outlast a restart.
 SOURCES = ["celegans_cell.obj", "cube-meshed.off"]
-
-
-def _skip() -> str | None:
-    if reason := skip_reason():
-        return reason
-    if not NGINX_IMAGE:
-        return "WISH_NGINX_IMAGE is not set: run scripts/test-docker.sh"
-    return None
 
 
 def classify_cli(server: str, folder: Path, out: Path, jobs: int) -> subprocess.Popen:
@@ -57,7 +47,7 @@ def comparable(row: dict[str, str]) -> dict[str, str]:
     return {k: v for k, v in row.items() if k != "request_id"} | {"file": Path(row["file"]).name}
 
 
-@unittest.skipIf(_skip(), _skip() or "")
+@unittest.skipIf(nginx_skip_reason(), nginx_skip_reason() or "")
 class ScaleOutContainersTest(unittest.TestCase):
     def setUp(self) -> None:
         self.tmp = Path(tempfile.mkdtemp(prefix="wish-scale-docker-"))
@@ -75,15 +65,8 @@ class ScaleOutContainersTest(unittest.TestCase):
             run_service(name, port, env={"WISH_WORKERS": "1", "WISH_QUEUE_SIZE": "4", "WISH_RETRY_AFTER": "1",
                                          "WISH_SHUTDOWN_GRACE": "60"})
             self.addCleanup(remove, name)
-        conf = self.tmp / "nginx"
-        conf.mkdir()
-        (conf / "wish-listen.conf").write_text(f"listen 127.0.0.1:{self.nginx_port};\n")
-        (conf / "wish-upstream.conf").write_text(
-            "".join(f"server 127.0.0.1:{p} max_fails=1 fail_timeout=2s;\n" for p in self.ports))
-        self.nginx = container_name()
-        docker("run", "-d", "--name", self.nginx, "--network", "host",
-               "-v", f"{conf / 'wish-listen.conf'}:/etc/nginx/wish-listen.conf:ro",
-               "-v", f"{conf / 'wish-upstream.conf'}:/etc/nginx/wish-upstream.conf:ro", NGINX_IMAGE)
+        self.nginx = run_nginx(self.tmp / "nginx", self.nginx_port, self.ports,
+                               upstream_options="max_fails=1 fail_timeout=2s")
         self.addCleanup(remove, self.nginx)
         for name, port in zip(self.names, self.ports):
             wait_for(lambda: http_ok(f"http://127.0.0.1:{port}/readyz"), f"{name} /readyz ({logs(name)})")
