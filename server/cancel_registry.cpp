@@ -5,6 +5,7 @@ namespace wish::server {
 CancelRegistry::Registration::Registration(CancelRegistry& registry, Flag flag)
     : registry_(registry), flag_(std::move(flag)) {
   std::lock_guard lock(registry_.mutex_);
+  if (registry_.cancelled_all_) flag_->store(true);
   registry_.flags_.insert(flag_);
 }
 
@@ -15,6 +16,7 @@ CancelRegistry::Registration::~Registration() {
 
 void CancelRegistry::cancel_all() {
   std::lock_guard lock(mutex_);
+  cancelled_all_ = true;
   for (const auto& flag : flags_) flag->store(true);
 }
 

@@ -28,6 +28,8 @@ class CancelRegistry {
     Flag flag_;
   };
 
+  // Cancels every registered flag and every one registered later: a request that was between its admission and
+  // its registration when the grace period ran out would otherwise compute to the end and hold up the exit.
   void cancel_all();
   std::size_t size() const;
 
@@ -35,6 +37,7 @@ class CancelRegistry {
   friend class Registration;
   mutable std::mutex mutex_;
   std::set<Flag> flags_;
+  bool cancelled_all_ = false;
 };
 
 }  // namespace wish::server

@@ -1,13 +1,12 @@
 #pragma once
-// The HTTP connection threads (httplib runs one connection per task, for the connection's whole life, reading with
-// a timeout). A fixed pool of N threads is starved by N idle or slow clients: measured before, 50 half-open
-// connections against 42 threads kept /healthz from answering for 30 s. Here a thread is started on demand for
-// each connection that finds none idle, up to `max_threads` (the connection cap); so /healthz finds a thread as long
-// as fewer than `max_threads` connections are open, and a silent connection frees its thread after the read
-// timeout (http_server.cpp). Connections beyond the cap wait in FIFO order for a thread (httplib 0.11.4 gives no
-// hook to refuse an accepted socket: its per-connection function is private). Idle threads stay for reuse.
-// `warm_threads` are started at once: a connection accepted just before a stop must start before httplib sees the
-// listener closed (else it is closed unanswered), and starting a thread under load takes milliseconds.
+// The HTTP connection threads (one task per accepted connection, for the connection's whole life, reading with
+// a timeout: http_server.cpp). A fixed pool of N threads is starved by N idle or slow clients: measured before, 50
+// half-open connections against 42 threads kept /healthz from answering for 30 s. Here a thread is started on demand
+// for each connection that finds none idle, up to `max_threads` (the connection cap); so /healthz finds a thread as
+// long as fewer than `max_threads` connections are open, and a silent connection frees its thread after the read
+// timeout. Connections beyond the cap wait in FIFO order for a thread; at shutdown they are still served (a queued
+// connection's request is an accepted one). Idle threads stay for reuse. `warm_threads` are started at once:
+// starting a thread under load takes milliseconds.
 
 #include <condition_variable>
 #include <cstddef>

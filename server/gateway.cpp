@@ -16,6 +16,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 }  // namespace
 
+ApiError shutting_down_error() {
+  return to_api_error(WishError(ErrorCategory::Unavailable, "shutting_down", "the server is shutting down"));
+}
+
 Gateway::Gateway(const ServerConfig& config, ModelRegistry& models, WorkerPool& pool, Metrics& metrics,
                  CancelRegistry& cancels, ComputeFunction compute)
     : config_(config), models_(models), pool_(pool), metrics_(metrics), cancels_(cancels), compute_(std::move(compute)) {}
@@ -230,7 +234,7 @@ ApiResponse Gateway::compute(ComputeRequest request) {
     const ComputeParams params = parse_compute_params(request.op, request.params, config_);
     const auto model = resolve_model(request.op, params);
     if (model) check_descriptor_settings(params, *model);
-    if (draining_.load()) {
+    if (grace_over_.load()) {
       metrics_.count_rejected("shutting_down");
       throw WishError(ErrorCategory::Unavailable, "shutting_down", "the server is shutting down");
     }

@@ -37,6 +37,10 @@ struct ComputeRequest {
   std::string content_type;      // raw body: the request's Content-Type
 };
 
+// 503 "shutting_down" with Retry-After: a request the server will not compute because its shutdown grace period is
+// over (the transport answers a request whose body was cut short by it the same way).
+ApiError shutting_down_error();
+
 class Gateway {
  public:
   // One job's work; run_compute (compute_service.hpp) in the service, a stand-in in tests. Must not throw.
@@ -57,8 +61,11 @@ class Gateway {
   // POST /v1/describe, /v1/classify. Never throws: every failure is an error response.
   ApiResponse compute(ComputeRequest request);
 
-  // Graceful shutdown: from now on /readyz is 503 and compute requests are refused with 503 "shutting_down".
+  // Graceful shutdown. Draining: /readyz is 503 (load balancers stop sending); compute requests still arriving
+  // were sent before the listener closed and are computed. Past the grace period: compute requests are refused
+  // with 503 "shutting_down" (the ones waiting are cancelled through the cancel registry).
   void begin_drain() { draining_ = true; }
+  void end_grace() { grace_over_ = true; }
   bool draining() const { return draining_.load(); }
   int in_flight() const { return in_flight_.load(); }
 
@@ -80,6 +87,7 @@ class Gateway {
   CancelRegistry& cancels_;
   ComputeFunction compute_;
   std::atomic<bool> draining_{false};
+  std::atomic<bool> grace_over_{false};
   std::atomic<int> in_flight_{0};
 };
 

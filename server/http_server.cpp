@@ -1,12 +1,23 @@
 // The transport: the only translation unit that includes httplib.h (see http_server.hpp). It reads an httplib
 // request into the gateway's neutral values (gateway.hpp), writes the gateway's ApiResponse to the wire, and keeps
-// what is HTTP's own: request ids, bearer auth, httplib's bare error statuses, the access line.
+// what is HTTP's own: request ids, bearer auth, httplib's bare error statuses, the access line, and the connections
+// themselves (accepted by listener.hpp, served by Transport below) so that a shutdown answers every request sent.
 #include "server/http_server.hpp"
 
 #include <httplib.h>
+#include <netdb.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
 #include <random>
 
 #include <spdlog/spdlog.h>
@@ -16,11 +27,13 @@
 #include "server/connection_threads.hpp"
 #include "server/error_mapping.hpp"
 #include "server/gateway.hpp"
+#include "server/listener.hpp"
 #include "server/logging.hpp"
 #include "server/openapi_document.hpp"
 #include "server/request_parsing.hpp"
 #include "server/routes.hpp"
 #include "server/static_assets.hpp"
+#include "server/wake_latch.hpp"
 
 namespace wish::server {
 
@@ -127,34 +140,184 @@ ComputeRequest read_compute_request(Operation op, const httplib::Request& req, h
   return out;
 }
 
-// The time of the last accepted connection or request start, for the quiet period before a stop (run_server.cpp).
-class ActivityClock {
+// One accepted connection as httplib's request code reads and writes it. httplib's own socket stream is internal to
+// the library, so this is the same thing (a small read buffer, poll() before every read and write, the timeouts)
+// with one addition: a read waiting for bytes also watches `interrupt` (the end of the shutdown grace period), and
+// is then cut short as if the client had stopped sending, so the request is answered 503 at once.
+class ConnectionStream final : public httplib::Stream {
  public:
-  void touch() { last_.store(Clock::now().time_since_epoch().count(), std::memory_order_relaxed); }
-  double seconds_since() const {
-    return std::chrono::duration<double>(Clock::now() - Clock::time_point(Clock::duration(last_.load()))).count();
+  ConnectionStream(int sock, int read_timeout_ms, int write_timeout_ms, const WakeLatch& interrupt)
+      : sock_(sock), read_timeout_ms_(read_timeout_ms), write_timeout_ms_(write_timeout_ms), interrupt_(interrupt) {}
+
+  bool is_readable() const override { return off_ < len_ || wait_readable(); }
+  bool is_writable() const override { return wait_socket(POLLOUT, write_timeout_ms_) && peer_alive(); }
+
+  ssize_t read(char* ptr, std::size_t size) override {
+    if (off_ == len_) {
+      off_ = len_ = 0;
+      // Interrupted: 0 (the client "stopped sending"), so a half-read request line or header block still reaches
+      // httplib's 400 path and is answered rather than dropped without a word.
+      if (!wait_readable()) return interrupted_ ? 0 : -1;
+      if (size >= buffer_.size()) return receive(ptr, size);
+      const ssize_t n = receive(buffer_.data(), buffer_.size());
+      if (n <= 0) return n;
+      len_ = static_cast<std::size_t>(n);
+    }
+    const std::size_t n = std::min(size, len_ - off_);
+    std::memcpy(ptr, buffer_.data() + off_, n);
+    off_ += n;
+    return static_cast<ssize_t>(n);
   }
 
- private:
-  std::atomic<Clock::rep> last_{Clock::now().time_since_epoch().count()};
-};
-
-// httplib's task queue over the on-demand connection threads (connection_threads.hpp); an accepted connection is
-// activity (its request may still be on the way).
-class ConnectionTaskQueue : public httplib::TaskQueue {
- public:
-  ConnectionTaskQueue(std::size_t warm_threads, std::size_t max_threads, ActivityClock& activity)
-      : threads_(warm_threads, max_threads), activity_(activity) {}
-  void enqueue(std::function<void()> fn) override {
-    activity_.touch();
-    threads_.enqueue(std::move(fn));
+  ssize_t write(const char* ptr, std::size_t size) override {
+    if (!is_writable()) return -1;
+    for (;;) {
+      const ssize_t n = ::send(sock_, ptr, size, MSG_NOSIGNAL);
+      if (n < 0 && errno == EINTR) continue;
+      return n;
+    }
   }
-  void shutdown() override { threads_.shutdown(); }
+
+  void get_remote_ip_and_port(std::string& ip, int& port) const override { address(::getpeername, ip, port); }
+  void get_local_ip_and_port(std::string& ip, int& port) const override { address(::getsockname, ip, port); }
+  int socket() const override { return sock_; }
+
+  bool interrupted() const { return interrupted_; }
 
  private:
-  ConnectionThreads threads_;
-  ActivityClock& activity_;
+  ssize_t receive(char* ptr, std::size_t size) const {
+    for (;;) {
+      const ssize_t n = ::recv(sock_, ptr, size, 0);
+      if (n < 0 && errno == EINTR) continue;
+      return n;
+    }
+  }
+
+  // Bytes to read within the read timeout (a closed or failed socket counts: recv reports it); false on timeout,
+  // and when the grace period ends first (interrupted_).
+  bool wait_readable() const {
+    pollfd fds[2] = {{sock_, POLLIN, 0}, {interrupt_.fd(), POLLIN, 0}};
+    for (;;) {
+      const int n = ::poll(fds, 2, read_timeout_ms_);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      if (fds[0].revents != 0) return true;
+      interrupted_ = true;
+      return false;
+    }
+  }
+
+  bool wait_socket(short events, int timeout_ms) const {
+    pollfd fd{sock_, events, 0};
+    for (;;) {
+      const int n = ::poll(&fd, 1, timeout_ms);
+      if (n < 0 && errno == EINTR) continue;
+      return n > 0 && (fd.revents & events) != 0;
+    }
+  }
+
+  // httplib's rule before writing: a peer that closed (EOF pending) is not written to.
+  bool peer_alive() const {
+    if (!wait_socket(POLLIN, 0)) return true;
+    char byte;
+    return ::recv(sock_, &byte, 1, MSG_PEEK | MSG_DONTWAIT) > 0;
+  }
+
+  template <class Query>
+  void address(Query query, std::string& ip, int& port) const {
+    sockaddr_storage addr{};
+    socklen_t len = sizeof addr;
+    if (query(sock_, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return;
+    char host[NI_MAXHOST], service[NI_MAXSERV];
+    if (::getnameinfo(reinterpret_cast<sockaddr*>(&addr), len, host, sizeof host, service, sizeof service,
+                      NI_NUMERICHOST | NI_NUMERICSERV) != 0)
+      return;
+    ip = host;
+    port = std::atoi(service);
+  }
+
+  int sock_;
+  int read_timeout_ms_, write_timeout_ms_;
+  const WakeLatch& interrupt_;
+  std::array<char, 4096> buffer_{};
+  std::size_t off_ = 0, len_ = 0;
+  mutable bool interrupted_ = false;
 };
+
+// The shutdown phases every connection watches (http_server.hpp): `closing` from the signal on (no new
+// connections; an idle kept-alive connection closes; every response says Connection: close), `grace_over` once the
+// grace period has run out (reads and silent connections are cut short; what is left is answered 503).
+struct ShutdownPhases {
+  WakeLatch closing;
+  WakeLatch grace_over;
+};
+
+// httplib parses, routes and writes each request; the connection around it is ours. httplib's own loop (its
+// listen loop and per-connection keep-alive loop) stops reading every connection the moment the server stops:
+// one accepted but not yet read, and a kept-alive one whose next request has already arrived, are closed
+// unanswered. Here the listener (listener.hpp) takes connections and this loop serves each one: process_request
+// is httplib's (protected) request step, called once per request as httplib's loop does.
+class Transport : public httplib::Server {
+ public:
+  int listening_socket() const { return svr_sock_; }
+
+  void serve_connection(int sock, const ShutdownPhases& phases) {
+    const int read_ms = static_cast<int>(read_timeout_sec_ * 1000 + read_timeout_usec_ / 1000);
+    const int write_ms = static_cast<int>(write_timeout_sec_ * 1000 + write_timeout_usec_ / 1000);
+    // As httplib's listen loop does: a blocked send() (window full after poll said writable) is bounded too.
+    const timeval send_limit{static_cast<time_t>(write_timeout_sec_), static_cast<suseconds_t>(write_timeout_usec_)};
+    ::setsockopt(sock, SOL_SOCKET, SO_SNDTIMEO, &send_limit, sizeof send_limit);
+    ConnectionStream stream(sock, read_ms, write_ms, phases.grace_over);
+    for (std::size_t served = 0; served < keep_alive_max_count_; ++served) {
+      if (!next_request_arrives(sock, served == 0, phases)) break;
+      const bool last = served + 1 == keep_alive_max_count_ || phases.closing.is_set();
+      bool client_closes = false;
+      t_response_closes = false;
+      if (!process_request(stream, last, client_closes, nullptr) || client_closes || last || t_response_closes) break;
+    }
+    close_connection(sock, stream.interrupted());
+  }
+
+  // Set by the post-routing hook when the response just written said Connection: close.
+  static thread_local bool t_response_closes;
+
+ private:
+  // httplib's keep_alive(): wait up to the keep-alive timeout for the first byte of the next request. Shutting down,
+  // a connection that has served a request and has no byte waiting is idle: closed now (its client was not sending).
+  // One that has served none keeps its usual wait (its client connected before the listener closed; the request is
+  // on its way) unless the grace period ends first. Bytes already there win: that request is answered.
+  bool next_request_arrives(int sock, bool fresh, const ShutdownPhases& phases) const {
+    pollfd fds[2] = {{sock, POLLIN, 0}, {(fresh ? phases.grace_over : phases.closing).fd(), POLLIN, 0}};
+    const auto deadline = Clock::now() + std::chrono::seconds(keep_alive_timeout_sec_);
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      const int n = ::poll(fds, 2, static_cast<int>(std::max<long long>(0, left)));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      return fds[0].revents != 0;
+    }
+  }
+
+  // A request answered before its body was read (cut short at the end of the grace period, refused by auth or by
+  // size) leaves bytes unread: closing then makes the kernel send a reset, which can destroy the answer before the
+  // client reads it. So the write side is shut first and what the client still sends is read and dropped, for a
+  // bounded time.
+  static void close_connection(int sock, bool interrupted) {
+    pollfd pending{sock, POLLIN, 0};
+    if (interrupted || ::poll(&pending, 1, 0) > 0) {
+      ::shutdown(sock, SHUT_WR);
+      const auto until = Clock::now() + std::chrono::seconds(2);
+      char sink[4096];
+      pollfd fd{sock, POLLIN, 0};
+      while (Clock::now() < until && ::poll(&fd, 1, 200) > 0 && ::recv(sock, sink, sizeof sink, 0) > 0) {
+      }
+    }
+    ::shutdown(sock, SHUT_RDWR);
+    ::close(sock);
+  }
+};
+
+thread_local bool Transport::t_response_closes = false;
 
 }  // namespace
 
@@ -163,15 +326,16 @@ struct HttpServer::Impl {
   Metrics& metrics;
   CancelRegistry cancels;
   Gateway gateway;
-  ActivityClock activity;
-  httplib::Server server;
+  Transport server;
+  ShutdownPhases phases;
+  // Warm: every worker busy and the job queue full still finds a thread (so it is answered 503 at once).
+  ConnectionThreads connections;
+  std::atomic<int> open_connections{0};
+  std::unique_ptr<Listener> listener;  // from bind()
 
   Impl(const ServerConfig& c, ModelRegistry& m, WorkerPool& p, Metrics& me)
-      : config(c), metrics(me), gateway(c, m, p, me, cancels) {
-    const std::size_t threads = static_cast<std::size_t>(config.http_threads);
-    // Warm: every worker busy and the job queue full still finds a thread (so it is answered 503 at once).
-    const std::size_t warm = static_cast<std::size_t>(config.workers + config.queue_size + 8);
-    server.new_task_queue = [this, warm, threads] { return new ConnectionTaskQueue(warm, threads, activity); };
+      : config(c), metrics(me), gateway(c, m, p, me, cancels),
+        connections(static_cast<std::size_t>(c.workers + c.queue_size + 8), static_cast<std::size_t>(c.http_threads)) {
     server.set_payload_max_length(config.max_upload_bytes);
     // httplib writes the headers and the body of a response separately; with Nagle's algorithm on, the body waits
     // for the client's delayed ACK (40 ms on Linux): a 5 ms describe of a small mesh took 46 ms end to end.
@@ -189,7 +353,6 @@ struct HttpServer::Impl {
 
   void install_hooks() {
     server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-      activity.touch();  // a request on a kept-alive connection is activity too
       t_request = RequestState{};
       t_request.start = Clock::now();
       const std::string incoming = req.get_header_value("X-Request-Id");
@@ -208,6 +371,13 @@ struct HttpServer::Impl {
       return httplib::Server::HandlerResponse::Unhandled;
     });
 
+    // Runs as each response's headers are written. From the signal on, every response closes its connection, so a
+    // kept-alive client sends its next request elsewhere instead of racing the close of an idle connection.
+    server.set_post_routing_handler([this](const httplib::Request&, httplib::Response& res) {
+      if (phases.closing.is_set() && res.get_header_value("Connection") != "close") res.set_header("Connection", "close");
+      Transport::t_response_closes = res.get_header_value("Connection") == "close";
+    });
+
     // Every >= 400 response passes here; a response without a body came from httplib itself (404 route, 413
     // payload, 400 framing): give it the one error body.
     server.set_error_handler(httplib::Server::HandlerWithResponse(
@@ -216,6 +386,8 @@ struct HttpServer::Impl {
       if (t_request.request_id.empty()) t_request.request_id = new_request_id();
       res.set_header("X-Request-Id", t_request.request_id);
       ApiError error = status_error(res.status);
+      // httplib's 400 for a request line or headers cut short by the end of the grace period: not the client's fault.
+      if (res.status == 400 && phases.grace_over.is_set()) error = shutting_down_error();
       if (res.status == 404) {
         // A known path with another method is 405 with Allow (httplib itself answers 404 for it).
         const std::string allow = allowed_methods(req.path, !config.web_dir.empty());
@@ -327,7 +499,8 @@ struct HttpServer::Impl {
     try {
       request = read_compute_request(op, req, res, reader, config.max_parts);
     } catch (...) {
-      write_error(res, to_api_error(std::current_exception()));
+      // A body cut short by the end of the grace period is answered like a request that came too late.
+      write_error(res, phases.grace_over.is_set() ? shutting_down_error() : to_api_error(std::current_exception()));
       return;
     }
     write_response(res, gateway.compute(std::move(request)));
@@ -340,27 +513,53 @@ HttpServer::HttpServer(const ServerConfig& config, ModelRegistry& models, Worker
 HttpServer::~HttpServer() = default;
 
 int HttpServer::bind() {
-  const auto& c = impl_->config;
+  auto& impl = *impl_;
+  const auto& c = impl.config;
+  int port = c.port;
   if (c.port == 0) {
-    const int port = impl_->server.bind_to_any_port(c.host);
+    port = impl.server.bind_to_any_port(c.host);
     if (port <= 0) throw std::runtime_error("cannot bind to " + c.host + " (any port)");
-    return port;
-  }
-  if (!impl_->server.bind_to_port(c.host, c.port))
+  } else if (!impl.server.bind_to_port(c.host, c.port)) {
     throw std::runtime_error("cannot bind to " + c.host + ":" + std::to_string(c.port) + " (in use or not permitted)");
-  return c.port;
+  }
+  const int fd = impl.server.listening_socket();
+  // httplib listens with a backlog of 5: a burst of clients overflows it, and the kernel then drops the handshake's
+  // last ACK of a client that already believes it is connected (and has sent its request). A full-size queue;
+  // listen() on a listening socket only changes its backlog.
+  ::listen(fd, SOMAXCONN);
+  impl.listener = std::make_unique<Listener>(fd);
+  return port;
 }
 
-void HttpServer::serve() { impl_->server.listen_after_bind(); }
+void HttpServer::serve() {
+  auto& impl = *impl_;
+  if (!impl.listener) throw std::logic_error("HttpServer::serve before bind");
+  impl.listener->run([&impl](int sock) {
+    ++impl.open_connections;
+    impl.connections.enqueue([&impl, sock] {
+      impl.server.serve_connection(sock, impl.phases);
+      --impl.open_connections;
+    });
+  });
+  // The listener is closed and every connection it took is queued or served: wait until each is answered and
+  // closed (idle ones close at once, the rest within the grace period, see end_grace).
+  impl.connections.shutdown();
+}
 
-void HttpServer::begin_drain() { impl_->gateway.begin_drain(); }
+void HttpServer::begin_shutdown() {
+  impl_->gateway.begin_drain();
+  impl_->phases.closing.set();
+  if (impl_->listener) impl_->listener->stop_accepting();
+}
 
-void HttpServer::stop() { impl_->server.stop(); }
-
-void HttpServer::cancel_in_flight() { impl_->cancels.cancel_all(); }
+void HttpServer::end_grace() {
+  impl_->gateway.end_grace();
+  impl_->phases.grace_over.set();
+  impl_->cancels.cancel_all();
+}
 
 int HttpServer::in_flight() const { return impl_->gateway.in_flight(); }
 
-double HttpServer::seconds_since_activity() const { return impl_->activity.seconds_since(); }
+int HttpServer::open_connections() const { return impl_->open_connections.load(); }
 
 }  // namespace wish::server

@@ -19,16 +19,18 @@ class HttpServer {
   HttpServer& operator=(const HttpServer&) = delete;
 
   int bind();    // binds config.host:config.port (0: any free port); returns the port; throws std::runtime_error
-  void serve();  // blocks until stop(); returns after every in-flight request has been answered
-  // Graceful shutdown, step 1: /readyz turns 503 and new compute requests get 503 "shutting_down"; step 2:
-  // the listening socket closes (no new connections). In-flight requests continue.
-  void begin_drain();
-  void stop();
-  // Past the grace period: in-flight computations stop at their next deadline check (503 "cancelled").
-  void cancel_in_flight();
-  int in_flight() const;
-  // Since the last connection was accepted or request began (any route): how long the service has been quiet.
-  double seconds_since_activity() const;
+  // Accepts connections until begin_shutdown(), then returns once every connection accepted before it (the
+  // kernel's queue included, listener.hpp) has been answered and closed.
+  void serve();
+  // Shutdown, step 1 (SIGTERM/SIGINT): stop accepting (later connects are refused); /readyz turns 503; every
+  // request already sent on an open connection is answered in full — its body still arriving, queued or
+  // computing — with Connection: close; idle kept-alive connections close.
+  void begin_shutdown();
+  // Step 2, past the grace period: computations are cancelled (503 "cancelled"), requests not yet computing and
+  // bodies still arriving are answered 503 "shutting_down" (both with Retry-After), silent connections close.
+  void end_grace();
+  int in_flight() const;         // compute requests between their body and their answer
+  int open_connections() const;  // accepted and not yet closed
 
  private:
   struct Impl;

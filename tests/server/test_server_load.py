@@ -148,8 +148,7 @@ class ServerLoadTest(unittest.TestCase):
             threads = [threading.Thread(target=one, args=(i,)) for i in range(n)]
             for t in threads:
                 t.start()
-            # All n accepted (running or queued) before the signal; "in flight" alone also counts a request still
-            # being parsed, which draining correctly refuses with 503 shutting_down.
+            # All n running or queued before the signal (test_server_shutdown.py signals at the other moments).
             self.assertTrue(h.wait_for(lambda: (s.metric("wish_workers_busy") or 0) + (s.metric("wish_queue_depth") or 0)
                                      == n, timeout=30), "requests were not accepted")
             s.signal(signal.SIGTERM)
@@ -169,8 +168,7 @@ class ServerLoadTest(unittest.TestCase):
             threads = [threading.Thread(target=one, args=(i,)) for i in range(2)]
             for t in threads:
                 t.start()
-            # Both jobs accepted (one running, one queued) before SIGTERM; "in flight" alone also counts a request
-            # still being parsed, which draining refuses as shutting_down instead.
+            # Both jobs accepted (one running, one queued) before SIGTERM, so the grace period cancels both.
             self.assertTrue(h.wait_for(lambda: (s.metric("wish_workers_busy") or 0) + (s.metric("wish_queue_depth") or 0) == 2))
             t0 = time.time()
             s.signal(signal.SIGTERM)
