@@ -150,7 +150,9 @@ class ConnectionStream final : public httplib::Stream {
       : sock_(sock), read_timeout_ms_(read_timeout_ms), write_timeout_ms_(write_timeout_ms), interrupt_(interrupt) {}
 
   bool is_readable() const override { return off_ < len_ || wait_readable(); }
-  bool is_writable() const override { return wait_socket(POLLOUT, write_timeout_ms_) && peer_alive(); }
+  // Unlike httplib's stream, a client that shut down its sending side after its request (EOF pending) is still
+  // answered: it can read. A client that is gone makes send() fail.
+  bool is_writable() const override { return wait_socket(POLLOUT, write_timeout_ms_); }
 
   ssize_t read(char* ptr, std::size_t size) override {
     if (off_ == len_) {
@@ -214,13 +216,6 @@ class ConnectionStream final : public httplib::Stream {
       if (n < 0 && errno == EINTR) continue;
       return n > 0 && (fd.revents & events) != 0;
     }
-  }
-
-  // httplib's rule before writing: a peer that closed (EOF pending) is not written to.
-  bool peer_alive() const {
-    if (!wait_socket(POLLIN, 0)) return true;
-    char byte;
-    return ::recv(sock_, &byte, 1, MSG_PEEK | MSG_DONTWAIT) > 0;
   }
 
   template <class Query>

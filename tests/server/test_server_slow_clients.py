@@ -99,5 +99,23 @@ class SlowClientTest(unittest.TestCase):
             self.assertTrue(reply.startswith(b"HTTP/1.1 200"), reply[:200])
 
 
+    def test_a_client_that_shuts_its_sending_side_after_the_request_is_answered(self):
+        # A client may half-close once its request is sent (nc -N, some scripts): it can still read the answer.
+        # httplib's own stream refuses to write once the client's EOF is pending, leaving it without an answer.
+        with h.Server(args=["--workers", "1"]) as s:
+            body = self.sphere
+            c = socket.create_connection(("127.0.0.1", s.port), timeout=30)
+            c.sendall(b"POST /v1/describe?lmax=4 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/octet-stream"
+                      b"\r\nConnection: close\r\nContent-Length: %d\r\n\r\n" % len(body) + body)
+            c.shutdown(socket.SHUT_WR)
+            reply = b""
+            while True:
+                chunk = c.recv(65536)
+                if not chunk:
+                    break
+                reply += chunk
+            c.close()
+            self.assertTrue(reply.startswith(b"HTTP/1.1 200"), reply[:200])
+
 if __name__ == "__main__":
     unittest.main()
