@@ -2,7 +2,7 @@
 // The service logic behind the routes, free of HTTP (llama.cpp tools/server's split: the transport, http_server.cpp,
 // turns an httplib request into the neutral values below and writes the ApiResponse back; everything between lives
 // here and is tested without a socket, tests/server/gateway_test.cpp):
-//   model resolution (?model=, the default, "several loaded, none default"), admission (draining -> 503),
+//   model resolution (?model=, the default, "several loaded, none default"), admission (shutdown grace over -> 503),
 //   fan-out of one job per part to the worker pool (all or none; queue full -> 503), the deadline arithmetic
 //   (the time limit counts from the request's arrival, queue wait included), waiting (a job not done by the limit
 //   + 1 s is cancelled and answered 504), the cancel registry, and batch assembly (one result or error per part).

@@ -369,7 +369,8 @@ struct HttpServer::Impl {
     // Runs as each response's headers are written. From the signal on, every response closes its connection, so a
     // kept-alive client sends its next request elsewhere instead of racing the close of an idle connection.
     server.set_post_routing_handler([this](const httplib::Request&, httplib::Response& res) {
-      if (phases.closing.is_set() && res.get_header_value("Connection") != "close") res.set_header("Connection", "close");
+      if (phases.closing.is_set() && res.get_header_value("Connection") != "close")
+        res.set_header("Connection", "close");
       Transport::t_response_closes = res.get_header_value("Connection") == "close";
     });
 

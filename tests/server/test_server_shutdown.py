@@ -1,9 +1,10 @@
 """Every accepted request is answered at shutdown (issue 27 item 1). 16 concurrent classify requests of real-size
 meshes (the 10-25K-vertex nuclei of the shared data, or generated ~10K-vertex ellipsoids without it), and SIGTERM
 at four moments: before the bodies are read, while the jobs are queued, while they run, and with a grace period too
-short for them (and once with a grace period longer than all the work). 20 runs. Each request must get an HTTP answer — 200, or 503 with Retry-After and the error body —
-the server must exit 0, and the access log must hold one line per request. Seen before the fix: 4 of 8 curls got no
-answer at all (connection closed, curl's 000), in 7 of 7 runs.
+short for them (and once with a grace period longer than all the work). 20 runs. Each request must get an HTTP
+answer — 200, or 503 with Retry-After and the error body — the server must exit 0, and the access log must hold
+one line per request. Seen before the fix: 4 of 8 curls got no answer at all (connection closed, curl's 000), in 7
+of 7 runs.
 
 Every client connects and sends its headers and half its body before the signal (so each request was accepted);
 the figures (requests, answered, 200s, 503s, runs) are printed before the assertions."""
