@@ -1,5 +1,5 @@
 // Dirac factorisation benchmark (not a test): the one numeric factorisation that dominates a Willmore flow step
-// (spherical-map.md §4), timed under the fill-reducing orderings and CHOLMOD modes we could choose, on the same
+// (docs/design/spherical-map.md §4), timed under the fill-reducing orderings and CHOLMOD modes we could choose, on the same
 // complex 2V×2V Hermitian matrix 𝔼(ρ) with ρ = −0.95·P(H)-like data (ρ = −0.95·H is enough: the pattern and the
 // conditioning are what matter here). Prints the factor size, CHOLMOD's flop count, and analyse / factorise /
 // solve times (factorise: median of 3) per configuration, for the nucleus and the bumpy icospheres.

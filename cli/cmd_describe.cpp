@@ -21,7 +21,6 @@
 #include "cli/volume_rows.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
-#include "server/error_mapping.hpp"
 #include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
 

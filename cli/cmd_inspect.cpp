@@ -16,7 +16,6 @@
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/validation/mesh_report.hpp"
-#include "server/error_mapping.hpp"
 #include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
 

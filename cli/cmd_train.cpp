@@ -1,4 +1,4 @@
-// `wish train INPUT`: trains an RBF C-SVM classifier as in paper §6 (classification.md) and writes the model
+// `wish train INPUT`: trains an RBF C-SVM classifier as in paper §6 (docs/design/classification.md) and writes the model
 // file, a JSON report, a printed table and an SVG heat map of the grid. INPUT is
 //   * a directory with one sub-directory per class holding meshes (OBJ, PLY, OFF, STL) and/or label volumes
 //     (NIfTI-1, TIFF; format by content): every kept object of a volume in class folder C is a sample of class C,

@@ -14,13 +14,24 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 LIST = ROOT / "core" / "common" / "error_codes.cpp"
 OPENAPI = ROOT / "proto" / "openapi.json"
-# HTTP status of each core category: the same table as server/error_mapping.cpp http_status().
-STATUS = {"InvalidInput": 400, "UnsupportedFormat": 415, "TooLarge": 413, "Unmappable": 422, "NotFound": 404,
-          "Timeout": 504, "Unavailable": 503, "Internal": 500, "Io": 500}
+# HTTP status of each core category: read from the one table, kCategoryStatus in server/error_mapping.cpp.
+STATUS_TABLE = ROOT / "server" / "error_mapping.cpp"
+STATUS_ENTRY = re.compile(r"\{ErrorCategory::(\w+),\s*(\d+)\}")
 ENTRY = re.compile(r'ErrorCodeInfo\{"([a-z0-9_]+)",\s*(?:C::(\w+)|kTransport),\s*(\d+),\s*"((?:[^"\\]|\\.)*)"\}')
 
 
+def read_statuses():
+    text = STATUS_TABLE.read_text()
+    table = text[text.index("kCategoryStatus{"):]
+    table = table[:table.index("}};")]
+    statuses = {category: int(status) for category, status in STATUS_ENTRY.findall(table)}
+    if not statuses:
+        sys.exit(f"no category statuses found in {STATUS_TABLE}")
+    return statuses
+
+
 def read_list():
+    STATUS = read_statuses()
     entries = []
     for code, category, transport, meaning in ENTRY.findall(LIST.read_text()):
         status = STATUS[category] if category else int(transport)

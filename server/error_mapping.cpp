@@ -1,5 +1,6 @@
 #include "server/error_mapping.hpp"
 
+#include <array>
 #include <atomic>
 #include <new>
 
@@ -13,19 +14,27 @@ std::atomic<int> g_retry_after{1};
 
 void set_retry_after_seconds(int seconds) { g_retry_after = seconds > 0 ? seconds : 1; }
 
+// ErrorCategory -> HTTP status, the one table: http_status() below and scripts/gen-error-codes.py (which writes
+// the statuses into proto/openapi.json) both read it, the script from this text, so keep one
+// {ErrorCategory::Name, status} entry per category.
+constexpr std::array<CategoryStatus, 9> kCategoryStatus{{
+    {ErrorCategory::InvalidInput, 400},
+    {ErrorCategory::UnsupportedFormat, 415},
+    {ErrorCategory::TooLarge, 413},
+    {ErrorCategory::Unmappable, 422},
+    {ErrorCategory::NotFound, 404},
+    {ErrorCategory::Timeout, 504},
+    {ErrorCategory::Unavailable, 503},
+    {ErrorCategory::Internal, 500},
+    {ErrorCategory::Io, 500},  // the service's own files (models, reports): not the client's fault
+}};
+
+std::span<const CategoryStatus> category_statuses() { return kCategoryStatus; }
+
 int http_status(ErrorCategory category) {
-  switch (category) {
-    case ErrorCategory::InvalidInput: return 400;
-    case ErrorCategory::UnsupportedFormat: return 415;
-    case ErrorCategory::TooLarge: return 413;
-    case ErrorCategory::Unmappable: return 422;
-    case ErrorCategory::NotFound: return 404;
-    case ErrorCategory::Timeout: return 504;
-    case ErrorCategory::Unavailable: return 503;
-    case ErrorCategory::Internal: return 500;
-    case ErrorCategory::Io: return 500;  // the service's own files (models, reports): not the client's fault
-  }
-  return 500;
+  for (const auto& entry : kCategoryStatus)
+    if (entry.category == category) return entry.status;
+  return 500;  // unreachable: every category has an entry (error_mapping_test)
 }
 
 ApiError to_api_error(const WishError& error) {

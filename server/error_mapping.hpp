@@ -5,6 +5,7 @@
 // Eigen-free and httplib-free, so both the HTTP file and the compute side may include it.
 
 #include <exception>
+#include <span>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,7 +22,12 @@ struct ApiError {
   int retry_after_seconds = 0;  // > 0: send a Retry-After header (503)
 };
 
-// ErrorCategory -> HTTP status: 400, 415, 413, 422, 404, 504, 503, 500.
+// ErrorCategory -> HTTP status: one table (error_mapping.cpp), which scripts/gen-error-codes.py also reads.
+struct CategoryStatus {
+  ErrorCategory category;
+  int status;
+};
+std::span<const CategoryStatus> category_statuses();
 int http_status(ErrorCategory category);
 
 // Seconds a client should wait before retrying a 503; set once at start from the configuration.

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <memory>
 #include <random>
+#include <type_traits>
 
 #include <spdlog/spdlog.h>
 
@@ -427,48 +428,53 @@ struct HttpServer::Impl {
     });
   }
 
+  // Registers `handler` for the route `id` (routes.hpp) by its method and path, naming it in the access log.
+  template <class Handler> void add_route(RouteId id, Handler handler) {
+    const Route& r = route(id);
+    const std::string pattern = http_pattern(r);
+    if constexpr (std::is_invocable_v<Handler, const httplib::Request&, httplib::Response&,
+                                      const httplib::ContentReader&>) {
+      server.Post(pattern, [&r, handler](const httplib::Request& req, httplib::Response& res,
+                                         const httplib::ContentReader& reader) {
+        t_request.route = r.path;
+        handler(req, res, reader);
+      });
+    } else if (method_allowed(r.allow, "GET")) {
+      server.Get(pattern, [&r, handler](const httplib::Request& req, httplib::Response& res) {
+        t_request.route = r.path;
+        handler(req, res);
+      });
+    } else {
+      server.Post(pattern, [&r, handler](const httplib::Request& req, httplib::Response& res) {
+        t_request.route = r.path;
+        handler(req, res);
+      });
+    }
+  }
+
   void install_routes() {
-    server.Get("/healthz", [this](const httplib::Request&, httplib::Response& res) {
-      t_request.route = "/healthz";
-      write_response(res, gateway.health());
-    });
-    server.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) {
-      t_request.route = "/readyz";
-      write_response(res, gateway.ready(t_request.request_id));
-    });
-    server.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
-      t_request.route = "/metrics";
-      write_response(res, gateway.metrics_text());
-    });
-    server.Get("/openapi.json", [](const httplib::Request&, httplib::Response& res) {
-      t_request.route = "/openapi.json";
+    using Req = httplib::Request;
+    using Res = httplib::Response;
+    add_route(RouteId::Healthz, [this](const Req&, Res& res) { write_response(res, gateway.health()); });
+    add_route(RouteId::Readyz,
+              [this](const Req&, Res& res) { write_response(res, gateway.ready(t_request.request_id)); });
+    add_route(RouteId::Metrics, [this](const Req&, Res& res) { write_response(res, gateway.metrics_text()); });
+    add_route(RouteId::OpenApi, [](const Req&, Res& res) {
       const auto doc = openapi_document();
       res.set_content(doc.data(), doc.size(), "application/json");
     });
-    server.Get("/v1/models", [this](const httplib::Request&, httplib::Response& res) {
-      t_request.route = "/v1/models";
-      write_response(res, gateway.list_models());
-    });
-    server.Get(R"(/v1/models/([^/]+))", [this](const httplib::Request& req, httplib::Response& res) {
-      t_request.route = "/v1/models/{name}";
+    add_route(RouteId::Models, [this](const Req&, Res& res) { write_response(res, gateway.list_models()); });
+    add_route(RouteId::Model, [this](const Req& req, Res& res) {
       write_response(res, gateway.model(req.matches[1], t_request.request_id));
     });
-    server.Get(R"(/v1/models/([^/]+)/report)", [this](const httplib::Request& req, httplib::Response& res) {
-      t_request.route = "/v1/models/{name}/report";
+    add_route(RouteId::ModelReport, [this](const Req& req, Res& res) {
       write_response(res, gateway.model_report(req.matches[1], t_request.request_id));
     });
-    server.Post("/v1/admin/reload", [this](const httplib::Request&, httplib::Response& res) {
-      t_request.route = "/v1/admin/reload";
-      write_response(res, gateway.reload());
-    });
-    server.Post("/v1/describe", [this](const httplib::Request& req, httplib::Response& res,
-                                       const httplib::ContentReader& reader) {
-      t_request.route = "/v1/describe";
+    add_route(RouteId::AdminReload, [this](const Req&, Res& res) { write_response(res, gateway.reload()); });
+    add_route(RouteId::Describe, [this](const Req& req, Res& res, const httplib::ContentReader& reader) {
       handle_compute(Operation::Describe, req, res, reader);
     });
-    server.Post("/v1/classify", [this](const httplib::Request& req, httplib::Response& res,
-                                       const httplib::ContentReader& reader) {
-      t_request.route = "/v1/classify";
+    add_route(RouteId::Classify, [this](const Req& req, Res& res, const httplib::ContentReader& reader) {
       handle_compute(Operation::Classify, req, res, reader);
     });
 

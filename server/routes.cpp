@@ -1,21 +1,23 @@
 #include "server/routes.hpp"
 
 #include <algorithm>
+#include <string_view>
 
 namespace wish::server {
 
 namespace {
 
-struct Route {
-  const char* path;  // segments; "{}" is any one non-empty segment
-  const char* allow;
-};
-
 constexpr Route kRoutes[] = {
-    {"/healthz", "GET, HEAD"},         {"/readyz", "GET, HEAD"},        {"/metrics", "GET, HEAD"},
-    {"/openapi.json", "GET, HEAD"},    {"/v1/models", "GET, HEAD"},     {"/v1/models/{}", "GET, HEAD"},
-    {"/v1/models/{}/report", "GET, HEAD"},
-    {"/v1/admin/reload", "POST"},      {"/v1/describe", "POST"},        {"/v1/classify", "POST"},
+    {RouteId::Healthz, "/healthz", "GET, HEAD"},
+    {RouteId::Readyz, "/readyz", "GET, HEAD"},
+    {RouteId::Metrics, "/metrics", "GET, HEAD"},
+    {RouteId::OpenApi, "/openapi.json", "GET, HEAD"},
+    {RouteId::Models, "/v1/models", "GET, HEAD"},
+    {RouteId::Model, "/v1/models/{name}", "GET, HEAD"},
+    {RouteId::ModelReport, "/v1/models/{name}/report", "GET, HEAD"},
+    {RouteId::AdminReload, "/v1/admin/reload", "POST"},
+    {RouteId::Describe, "/v1/describe", "POST"},
+    {RouteId::Classify, "/v1/classify", "POST"},
 };
 
 // The next '/'-separated segment of `s` (after its leading '/'), removed from `s`.
@@ -32,12 +34,38 @@ bool matches(std::string_view pattern, std::string_view path) {
     if (pattern.empty() || path.empty() || path.front() != '/') return false;
     const std::string_view want = next_segment(pattern);
     const std::string_view got = next_segment(path);
-    if (want == "{}" ? got.empty() : want != got) return false;
+    if (want.starts_with('{') ? got.empty() : want != got) return false;
   }
   return true;
 }
 
 }  // namespace
+
+std::span<const Route> routes() { return kRoutes; }
+
+std::string http_pattern(const Route& r) {
+  std::string out;
+  std::string_view rest = r.path;
+  while (!rest.empty()) {
+    const std::string_view segment = next_segment(rest);
+    out += '/';
+    if (segment.starts_with('{')) {
+      out += "([^/]+)";
+      continue;
+    }
+    for (const char c : segment) {
+      if (std::string_view(".+*?()[]{}|^$\\").find(c) != std::string_view::npos) out += '\\';
+      out += c;
+    }
+  }
+  return out;
+}
+
+const Route& route(RouteId id) {
+  for (const auto& r : kRoutes)
+    if (r.id == id) return r;
+  return kRoutes[0];  // unreachable: every RouteId has an entry (routes_test)
+}
 
 std::string allowed_methods(std::string_view path, bool web_page) {
   for (const auto& route : kRoutes)

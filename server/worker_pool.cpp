@@ -1,6 +1,6 @@
 #include "server/worker_pool.hpp"
 
-#include "server/thread_limits.hpp"
+#include "core/common/thread_policy.hpp"
 
 namespace wish::server {
 

@@ -1,8 +1,8 @@
 #pragma once
 // Compute workers behind a bounded job queue, separate from the HTTP threads: an HTTP thread parses the request,
 // submits the work here and waits; when the queue is full the submit fails at once so the client gets a 503
-// instead of a hang. Each worker limits OpenMP and BLAS to one thread (thread_limits.hpp) so that `workers`
-// requests in parallel use `workers` cores and the machine is not oversubscribed.
+// instead of a hang. Each worker limits OpenMP and BLAS to one thread (core/common/thread_policy.hpp) so that
+// `workers` requests in parallel use `workers` cores and the machine is not oversubscribed.
 
 #include <condition_variable>
 #include <cstddef>

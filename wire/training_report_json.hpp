@@ -1,6 +1,6 @@
 #pragma once
 // The training report (TrainingReport in proto/openapi.json, GET /v1/models/{name}/report; written by `wish train
-// --report` beside the model as <model>-report.json): classification.md's "Report like Table 1" — class counts and
+// --report` beside the model as <model>-report.json): docs/design/classification.md's "Report like Table 1" — class counts and
 // losses, features, the grid (C × γ mean/std accuracy, rows C, columns γ), held-out test (confusion matrix: rows
 // true class, columns predicted; per-class precision/recall/F1), nested CV. Accuracies are fractions in [0, 1].
 

@@ -4,7 +4,7 @@
 People train in notebooks on ``wish describe --csv`` features; the service loads one sealed JSON model file
 (core/classify/model_file.cpp, format ``wish-classifier`` version 1). This module:
 
-* :func:`features_from_describe_csv` — the feature pipeline of the model file (classification.md), in numpy,
+* :func:`features_from_describe_csv` — the feature pipeline of the model file (docs/design/classification.md), in numpy,
   exactly as the service replays it: ξ(l) for l in [l_min, l_max], optional scale normalisation (ξ(l)/ξ(1)),
   optional natural log (floored at the smallest normal double). Train the Pipeline on *these* columns.
 * :func:`pipeline_to_model` — the fitted Pipeline + the feature spec + the descriptor settings → model document,
@@ -46,7 +46,6 @@ from wish_client import describe_csv  # noqa: E402
 from wish_model_json import dumps, seal  # noqa: E402
 
 FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 2
-RECIPE_VERSION = 1  # DescriptorRecipe::kVersion (core/classify/descriptor_recipe.hpp)
 
 #: The descriptor settings come from a model file written by `wish train` (by default the repository's bundled
 #: model), never from a copy of the C++ defaults that could drift: the model file lists every setting.
@@ -61,9 +60,12 @@ def default_descriptor() -> dict[str, Any]:
 
 
 def descriptor_of(doc: dict[str, Any]) -> dict[str, Any]:
-    """The map and fit settings (``{"map", "sh", "off_recipe"}``) of a model document read by :func:`read_model`."""
+    """The map and fit settings (``{"map", "sh", "off_recipe", "recipe_version"}``) of a model document read by
+    :func:`read_model`. The recipe version goes with them: it says which fields ``map`` and ``sh`` hold
+    (core/classify/descriptor_recipe_codec.hpp), and the C++ loader refuses keys its version does not have."""
     recipe = doc["payload"]["recipe"]
-    return copy.deepcopy({"map": recipe["map"], "sh": recipe["sh"], "off_recipe": recipe["off_recipe"]})
+    return copy.deepcopy({"map": recipe["map"], "sh": recipe["sh"], "off_recipe": recipe["off_recipe"],
+                          "recipe_version": recipe["recipe_version"]})
 
 
 _DBL_MIN = float(np.finfo(float).tiny)  # std::numeric_limits<double>::min(), the log floor in feature_pipeline.cpp
@@ -142,7 +144,8 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
     Args:
         pipeline: fitted on the columns of :func:`apply_feature_spec` (``spec``), labels = class-name strings.
         spec: the ``features`` block (:func:`feature_spec`).
-        descriptor: map and fit settings (``{"map", "sh"}`` and optionally ``"off_recipe"``, as
+        descriptor: map and fit settings (``{"map", "sh"}`` and optionally ``"off_recipe"`` and
+            ``"recipe_version"`` (1 when absent), as
             :func:`descriptor_of` gives them); default :func:`default_descriptor`.
         lmax: overrides ``descriptor.sh.lmax`` (default: the spec's l_max).
         training: fields of the ``training`` block to set (samples, best_c, test_accuracy, notes, ...).
@@ -173,7 +176,7 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
     payload = {
         "name": name, "version": str(version), "classes": classes,
         # The descriptor recipe (format 2): map + fit + feature pipeline + the policy for off-recipe maps.
-        "recipe": {"recipe_version": RECIPE_VERSION, "map": desc["map"], "sh": desc["sh"], "features": spec,
+        "recipe": {"recipe_version": int(desc.get("recipe_version", 1)), "map": desc["map"], "sh": desc["sh"], "features": spec,
                    "off_recipe": desc.get("off_recipe", "refuse")},
         "scaler": {"mean": mean.tolist(), "scale": scale.tolist()},
         "svm": {"type": "c_svc", "kernel": "rbf", "C": float(svc.C), "gamma": float(svc._gamma),

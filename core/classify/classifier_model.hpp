@@ -1,5 +1,5 @@
 #pragma once
-// A trained WISH classifier (paper §6; ../shared/design/classification.md): the descriptor recipe it was
+// A trained WISH classifier (paper §6; docs/design/classification.md): the descriptor recipe it was
 // trained with (descriptor_recipe.hpp: map, fit, feature pipeline, off-recipe policy), the feature pipeline, the z-score scaler, and an RBF C-SVM (libsvm) with Platt probabilities.
 // One self-describing, versioned JSON model file holds all of it (model_file.cpp).
 

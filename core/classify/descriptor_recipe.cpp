@@ -1,5 +1,9 @@
 #include "core/classify/descriptor_recipe.hpp"
 
+#include <algorithm>
+
+#include "core/classify/descriptor_recipe_codec.hpp"
+
 #include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
 
@@ -45,6 +49,31 @@ void enforce_recipe_policy(const DescriptorRecipe& recipe, const RecipeConforman
                    {"recipe_method", wanted},
                    {"attempts", static_cast<std::int64_t>(c.attempts)},
                    {"model", model_name}});
+}
+
+namespace {
+
+// The highest version among the fields that differ from their legacy value (descriptor_recipe_codec.hpp).
+struct VersionOfFields {
+  int version = 1;
+  template <class T> void field(const char*, const T&) {}
+  template <class F> void group(const char*, F&& fill) { fill(*this); }
+  template <class T> void added(int since, const char*, const T& value, const T& legacy) {
+    if (!(value == legacy)) version = std::max(version, since);
+  }
+  template <class F, class T> void added_group(int since, const char*, F&&, const T& target, const T& legacy) {
+    if (!(target == legacy)) version = std::max(version, since);
+  }
+  template <class T> void retired(const char*, int, const T&) {}
+  void derived(const char*) {}
+};
+
+}  // namespace
+
+int recipe_version_of(const DescriptorRecipe& recipe) {
+  VersionOfFields v;
+  visit_recipe(v, recipe);
+  return v.version;
 }
 
 int model_steps(const DescriptorRecipe& recipe) {

@@ -3,7 +3,7 @@
 // typed value — the spherical-map method and all its options, the SH fit (Lmax, nu, weighting, solver), the feature
 // pipeline (which xi(l), scale normalisation, log, feature family) — plus the model's policy for a descriptor whose
 // map came from another method than the recipe's (a fallback attempt of the chain). The CLI builds it from its
-// flags, the model file stores it (model_file.cpp, format version 2), the pipeline and the server compute with it
+// flags, the model file stores it (model_file.cpp, format version 2, recipe_version), the pipeline and the server compute with it
 // and check every result against it (check_recipe): a descriptor computed another way is never fed to a model
 // silently — it is refused, or accepted with recipe_match = false in the result, as the model's policy says.
 
@@ -38,9 +38,13 @@ OffRecipePolicy off_recipe_policy_from_name(const std::string& name);  // throws
 
 struct DescriptorRecipe {
   // Version of the recipe's content (fields and their meaning); stored in the model file next to the recipe.
-  // 1: the first; 2: map.area_correction added (absent in version 1 = none, the conformal map). Files of every
-  // version up to kVersion load (model_file.cpp); missing fields take their legacy values (descriptor_recipe_codec).
-  static constexpr int kVersion = 2;
+  // Which version introduced which field is listed once, in descriptor_recipe_codec.hpp (1: the first; 2: the
+  // operator, flow budget and area correction; 3: the chain budget and cMCF's stall patience). Files of every
+  // version up to kVersion load (model_file.cpp); a newer one is refused, as is any key this build does not know.
+  static constexpr int kVersion = 3;
+  // From this version on a file's version is computed from its fields (recipe_version_of) and its keys are exactly
+  // that version's; older files may carry keys of later versions (written before the version table existed).
+  static constexpr int kFirstComputedVersion = 3;
   SphericalMapOptions map;   // method, fallback chain switch, flow parameters, verification bounds
   ShFitOptions sh;           // lmax, regularization nu, weighting, solver
   FeatureSpec features;      // xi(l_min..l_max), scale normalisation, log, family
@@ -53,6 +57,11 @@ struct DescriptorRecipe {
   }
   bool uses_invariants() const { return features.family != FeatureFamily::Global; }
 };
+
+// The recipe version a file of this recipe gets: the highest version that introduced a field whose value differs
+// from its legacy value (the behaviour before the field existed); at least 1. The oldest reader that computes the
+// same descriptor from the file can read it.
+int recipe_version_of(const DescriptorRecipe& recipe);
 
 // Throws InvalidInputError(code, ...) when the parts disagree (features use xi(l) above sh.lmax, bad l range).
 void validate_recipe(const DescriptorRecipe& recipe, const std::string& code = "invalid_recipe");

@@ -1,13 +1,29 @@
 #pragma once
 // Every field of DescriptorRecipe (spherical-map options, SH fit options, feature pipeline, off-recipe policy),
-// listed ONCE in visit_recipe(), so that the model file writes all of them and reads all of them back: a model
-// must reproduce the descriptor it was trained on exactly (classification.md: never silently mismatched). Adding a
-// field to SphericalMapOptions, ShFitOptions or FeatureSpec means adding one line here (and, when it changes what
-// old files mean, bumping DescriptorRecipe::kVersion); the round-trip test in tests/classify/model_file_test.cpp
-// compares every field through operator==.
+// listed ONCE in visit_recipe() with the recipe version that introduced it, so that the model file writes all of
+// them, reads all of them back and computes the version it writes from them: a model must reproduce the descriptor
+// it was trained on exactly (docs/design/classification.md: never silently mismatched). This list is the recipe's version table.
 //
-// A visitor provides: field(key, double&|int&|bool&), enumeration(key, E&), group(key, lambda) for nesting, and
-// legacy_field(key, value&, legacy) / legacy_group(key, lambda, target&, legacy) for fields that older files lack.
+// Versions (DescriptorRecipe::kVersion is the newest):
+//   1  the first recipe (issue 12): every field written without a version below.
+//   2  map.verification.strict_conformal_bound, map.laplacian, map.flow_budget_seconds (added 2026-12-01 with a
+//      legacy value but without a bump), map.area_correction (the bump).
+//   3  map.chain_budget_seconds, map.linear_reserve_seconds, map.cmcf.stall_patience (added 2026-12-02 without a
+//      bump, so a version-2 build read such files with its own defaults; issue 27).
+// Retired: map.min_fallback_flow_seconds (in version-2 files of 2026-12-02; 0 is what this build computes).
+//
+// The version a file gets (recipe_version_of): the highest version that introduced a field whose value differs
+// from its legacy value (how descriptors were computed before the field existed); version-1 fields count as 1. The
+// file then holds exactly the fields of that version: a later field at its legacy value is left out, so a reader of
+// that version reads the file, and a reader of an older version refuses it by its number.
+//
+// Adding a field: one line here with the next version and its legacy value, and kVersion raised to it.
+// tests/classify/recipe_versions_test.cpp fails when a member of the recipe's structs has no line here.
+//
+// A visitor provides, for fields of version 1: field(key, value&) (double, int, bool or an enum) and
+// group(key, fill) for nesting; for later ones: added(version, key, value&, legacy) and
+// added_group(version, key, fill, target&, legacy); and retired(key, last_version, value_meaning_today) for keys
+// older files may carry that no field reads any more; derived(key) for a key computed from the fields.
 
 #include "core/classify/descriptor_recipe.hpp"
 
@@ -16,7 +32,7 @@ namespace wish {
 template <class Visitor, class Recipe>
 void visit_recipe(Visitor& v, Recipe& d) {
   v.group("map", [&](Visitor& m) {
-    m.enumeration("method", d.map.method);
+    m.field("method", d.map.method);
     m.group("willmore", [&](Visitor& w) {
       auto& o = d.map.willmore;
       w.field("tau", o.tau);
@@ -42,13 +58,13 @@ void visit_recipe(Visitor& v, Recipe& d) {
       c.field("min_steps_before_stall", o.min_steps_before_stall);
       c.field("fallback_max_steps", o.fallback_max_steps);
       // Older files stopped at the first step that did not lower R (and flowed to their last surface).
-      c.legacy_field("stall_patience", o.stall_patience, 1);
+      c.added(3, "stall_patience", o.stall_patience, 1);
     });
     m.group("linear", [&](Visitor& l) {
       l.field("min_weight", d.map.linear.min_weight);
       l.field("always_clamp", d.map.linear.always_clamp);
     });
-    m.enumeration("solver", d.map.solver);
+    m.field("solver", d.map.solver);
     m.field("fallback", d.map.fallback);
     m.field("untangle", d.map.untangle);
     m.group("verification", [&](Visitor& q) {
@@ -58,20 +74,22 @@ void visit_recipe(Visitor& v, Recipe& d) {
       // Fields added after models were first written carry their LEGACY value (how those models' descriptors were
       // computed) for files that lack them: the old verification refused distorted maps, the old operator was the
       // extrinsic cotan Laplacian, the old chain had no time budget.
-      q.legacy_field("strict_conformal_bound", d.map.verification.strict_conformal_bound, true);
+      q.added(2, "strict_conformal_bound", d.map.verification.strict_conformal_bound, true);
     });
-    m.legacy_group("laplacian", [&](Visitor& l) {
-      l.enumeration("kind", d.map.laplacian.kind);
+    m.added_group(2, "laplacian", [&](Visitor& l) {
+      l.field("kind", d.map.laplacian.kind);
       l.field("mollify_delta", d.map.laplacian.mollify_delta);
       l.field("max_flips_per_edge", d.map.laplacian.max_flips_per_edge);
     }, d.map.laplacian, geometry::IntrinsicOptions{geometry::LaplacianKind::Extrinsic});
-    m.legacy_field("flow_budget_seconds", d.map.flow_budget_seconds, 0.0);
-    m.legacy_field("chain_budget_seconds", d.map.chain_budget_seconds, 0.0);
-    m.legacy_field("linear_reserve_seconds", d.map.linear_reserve_seconds, 0.0);
-    // Recipe version 2: the area-aware correction after the map; files of version 1 had none (the conformal map).
-    m.legacy_group("area_correction", [&](Visitor& a) {
+    m.added(2, "flow_budget_seconds", d.map.flow_budget_seconds, 0.0);
+    m.added(3, "chain_budget_seconds", d.map.chain_budget_seconds, 0.0);
+    m.added(3, "linear_reserve_seconds", d.map.linear_reserve_seconds, 0.0);
+    // Off by default and measured harmful; at 0 its check was the chain budget's own (removed 2026-12-02).
+    m.retired("min_fallback_flow_seconds", 2, 0.0);
+    // The area-aware correction after the map; files of version 1 had none (the conformal map).
+    m.added_group(2, "area_correction", [&](Visitor& a) {
       auto& o = d.map.area_correction;
-      a.enumeration("method", o.method);
+      a.field("method", o.method);
       a.field("max_iterations", o.max_iterations);
       a.field("tolerance", o.tolerance);
       a.field("plateau", o.plateau);
@@ -86,20 +104,22 @@ void visit_recipe(Visitor& v, Recipe& d) {
   v.group("sh", [&](Visitor& s) {
     s.field("lmax", d.sh.lmax);
     s.field("regularization", d.sh.regularization);
-    s.enumeration("weighting", d.sh.weighting);
-    s.enumeration("solver", d.sh.solver);
+    s.field("weighting", d.sh.weighting);
+    s.field("solver", d.sh.solver);
     s.field("band_size", d.sh.band_size);
-    s.enumeration("gram", d.sh.gram);
+    s.field("gram", d.sh.gram);
   });
   v.group("features", [&](Visitor& f) {
-    f.enumeration("family", d.features.family);
+    f.field("family", d.features.family);
     f.field("l_min", d.features.l_min);
     f.field("l_max", d.features.l_max);
-    f.enumeration("scale", d.features.scale);
+    f.field("scale", d.features.scale);
     f.field("log", d.features.log_transform);
     f.field("global_scale_free", d.features.global_scale_free);
+    // The column names feature_names(features), written for readers of the file and checked on load.
+    f.derived("names");
   });
-  v.enumeration("off_recipe", d.off_recipe);
+  v.field("off_recipe", d.off_recipe);
 }
 
 }  // namespace wish

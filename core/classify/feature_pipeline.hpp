@@ -1,5 +1,5 @@
 #pragma once
-// The feature pipeline of classification.md, recorded in the model (FeatureSpec) and replayed exactly at
+// The feature pipeline of docs/design/classification.md, recorded in the model (FeatureSpec) and replayed exactly at
 // prediction: select xi(l) for l in [l_min, l_max] (default 1..Lmax: xi(0) depends on the translation),
 // optional scale normalisation (xi(l)/xi(1) or xi(l)/area; xi scales as length^2), optional log, then the
 // global descriptors when the family asks for them. The z-score scaler (standard_scaler.hpp) comes after.

@@ -1,5 +1,5 @@
 #pragma once
-// Classification figures the paper did not report but classification.md asks for: confusion matrix and
+// Classification figures the paper did not report but docs/design/classification.md asks for: confusion matrix and
 // per-class precision / recall / F1 (scikit-learn's definitions; 0 when undefined, as zero_division=0).
 
 #include <string>

@@ -1,11 +1,15 @@
-// The model file (classification.md "The model on disk"): one versioned, self-describing JSON document
+// The model file (docs/design/classification.md "The model on disk"): one versioned, self-describing JSON document
 //   { "format": "wish-classifier", "format_version": 2, "payload": {...}, "payload_sha256": "<hex>" }
 // The payload holds the classes, the descriptor recipe (payload.recipe: recipe_version, map, sh, features with
 // their column names, off_recipe policy; descriptor_recipe.hpp), the scaler, the SVM (parameters, support vectors, coefficients, rho,
 // probA/probB) and the training summary. The seal is the SHA-256 of payload.dump() — nlohmann::json sorts keys
 // and prints doubles in their shortest round-trip form, so the dump is canonical and survives a parse.
 // A converter that edits a model on purpose (clients/) recomputes the seal the same way.
+// Every key is one this build knows (issue 27): an unknown key anywhere is refused (model_version, with its path),
+// because a reader that skipped it would compute with its own value of a setting the file states.
 #include <fstream>
+#include <set>
+#include <type_traits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -94,28 +98,57 @@ json rows(const Eigen::MatrixXd& m) {
   return out;
 }
 
-// Writes every field listed by visit_recipe().
+// An object's keys against the keys a reader of this build knows: any other key is refused, because a reader
+// that skipped it would compute with its own value of a setting the file states (a newer build's field, or an
+// edit). Named with its path; ClassifierModel::load adds the file.
+void refuse_unknown_keys(const json& j, const std::set<std::string>& known, const std::string& where) {
+  if (!j.is_object()) return;
+  for (const auto& [key, value] : j.items()) {
+    if (known.count(key)) continue;
+    throw InvalidInputError("model_version",
+                            "unknown key " + where + "." + key + ": this build reads model format " +
+                                std::to_string(ClassifierModel::kFormatVersion) + " with descriptor recipe versions 1.." +
+                                std::to_string(DescriptorRecipe::kVersion) +
+                                " and no such field (written by a newer wish, or edited by hand)",
+                            {{"key", where + "." + key}});
+  }
+}
+
+// Writes the fields visit_recipe() lists for a file of recipe version `version` (recipe_version_of).
 struct SettingsWriter {
   json& out;
-  template <class T> void field(const char* key, const T& value) { out[key] = value; }
-  template <class E> void enumeration(const char* key, const E& value) { out[key] = to_string(value); }
+  int version;
+  template <class T> void field(const char* key, const T& value) {
+    if constexpr (std::is_enum_v<T>) out[key] = to_string(value);
+    else out[key] = value;
+  }
   template <class F> void group(const char* key, F&& fill) {
-    SettingsWriter sub{out[key]};
+    SettingsWriter sub{out[key], version};
     fill(sub);
   }
-  template <class T> void legacy_field(const char* key, const T& value, const T&) { field(key, value); }
-  template <class F, class T> void legacy_group(const char* key, F&& fill, const T&, const T&) { group(key, fill); }
+  template <class T> void added(int since, const char* key, const T& value, const T&) {
+    if (since <= version) field(key, value);
+  }
+  template <class F, class T> void added_group(int since, const char* key, F&& fill, const T&, const T&) {
+    if (since <= version) group(key, fill);
+  }
+  template <class T> void retired(const char*, int, const T&) {}
+  void derived(const char*) {}  // recipe_to_json writes them
 };
 
-// Reads every field listed by visit_recipe(); a missing or mistyped field is refused with its path.
+// Reads every field visit_recipe() lists for the file's recipe version; a missing, mistyped or unknown field is
+// refused with its path.
 struct SettingsReader {
   const json& in;
   std::string where;
-  void field(const char* key, double& value) { value = num(in, key, where); }
-  void field(const char* key, int& value) { value = static_cast<int>(integer(in, key, where)); }
-  void field(const char* key, bool& value) { value = boolean(in, key, where); }
-  template <class E> void enumeration(const char* key, E& value) {
-    const std::string name = str(in, key, where);
+  int version;                   // the file's recipe_version
+  std::set<std::string> known;   // keys of `in` that a field of the table read
+
+  void field(const char* key, double& value) { value = num(in, mark(key), where); }
+  void field(const char* key, int& value) { value = static_cast<int>(integer(in, mark(key), where)); }
+  void field(const char* key, bool& value) { value = boolean(in, mark(key), where); }
+  template <class E> requires std::is_enum_v<E> void field(const char* key, E& value) {
+    const std::string name = str(in, mark(key), where);
     try {
       value = enum_from_name(name, value);
     } catch (const WishError&) {
@@ -123,20 +156,43 @@ struct SettingsReader {
     }
   }
   template <class F> void group(const char* key, F&& fill) {
-    SettingsReader sub{field_of(key), where + "." + key};
+    SettingsReader sub{wish::field(in, mark(key), where), where + "." + key, version, {}};
     fill(sub);
+    sub.finish();
   }
-  template <class T> void legacy_field(const char* key, T& value, const T& legacy) {
-    if (in.is_object() && !in.contains(key)) value = legacy;
+  template <class T> void added(int since, const char* key, T& value, const T& legacy) {
+    if (takes_legacy(since, key)) value = legacy;
     else field(key, value);
   }
-  template <class F, class T> void legacy_group(const char* key, F&& fill, T& target, const T& legacy) {
-    if (in.is_object() && !in.contains(key)) target = legacy;
+  template <class F, class T> void added_group(int since, const char* key, F&& fill, T& target, const T& legacy) {
+    if (takes_legacy(since, key)) target = legacy;
     else group(key, fill);
+  }
+  template <class T> void retired(const char* key, int last_version, const T& value_today) {
+    if (!in.is_object() || !in.contains(key) || version > last_version) return;  // a later file: an unknown key
+    T value{};
+    field(key, value);
+    if (value != value_today)
+      throw InvalidInputError("model_version", where + "." + key + " = " + in.at(key).dump() +
+                                                   ": this setting was retired, and this build computes as with " +
+                                                   json(value_today).dump());
+  }
+  void derived(const char* key) { mark(key); }  // checked by recipe_from_json
+  // After every field was read: any key left is unknown.
+  void finish(std::set<std::string> also_known = {}) {
+    also_known.insert(known.begin(), known.end());
+    refuse_unknown_keys(in, also_known, where);
   }
 
  private:
-  const json& field_of(const char* key) { return wish::field(in, key, where); }
+  const std::string& mark(const char* key) { return *known.insert(key).first; }
+  // A file without the key takes the legacy value when its version predates the field, or when it was written
+  // before versions were computed (files of versions 1..2 lacked fields their builds already had). A file of a
+  // computed version holds every field of its version: one missing there is refused like any other.
+  bool takes_legacy(int since, const char* key) const {
+    if (in.is_object() && in.contains(key)) return false;
+    return version < DescriptorRecipe::kFirstComputedVersion || since > version;
+  }
   static MapMethod enum_from_name(const std::string& n, MapMethod) { return map_method_from_name(n); }
   static LinearSolverKind enum_from_name(const std::string& n, LinearSolverKind) { return linear_solver_from_name(n); }
   static FitWeighting enum_from_name(const std::string& n, FitWeighting) { return fit_weighting_from_name(n); }
@@ -154,14 +210,17 @@ struct SettingsReader {
 };
 
 DescriptorRecipe recipe_from_json(const json& j) {
-  const std::int64_t version = integer(j, "recipe_version", "recipe");
+  const std::int64_t version = integer(j, "recipe_version", "payload.recipe");
   if (version < 1 || version > DescriptorRecipe::kVersion)
-    throw InvalidInputError("model_version", "descriptor recipe version " + std::to_string(version) +
-                                                 " is not supported (this build reads versions 1.." +
-                                                 std::to_string(DescriptorRecipe::kVersion) + ")");
+    throw InvalidInputError("model_version",
+                            "descriptor recipe version " + std::to_string(version) + " is not supported (this build reads versions 1.." +
+                                std::to_string(DescriptorRecipe::kVersion) +
+                                (version > DescriptorRecipe::kVersion ? "; the file was written by a newer wish" : "") + ")",
+                            {{"version", version}, {"supported", std::int64_t{DescriptorRecipe::kVersion}}});
   DescriptorRecipe r;
-  SettingsReader reader{j, "recipe"};
+  SettingsReader reader{j, "payload.recipe", static_cast<int>(version), {}};
   visit_recipe(reader, r);
+  reader.finish({"recipe_version"});
   if (r.sh.lmax < 0 || r.sh.lmax > 100) invalid("recipe.sh.lmax " + std::to_string(r.sh.lmax) + " is out of range");
   const json& names = field(field(j, "features", "recipe"), "names", "recipe.features");
   if (names != json(feature_names(r.features)))
@@ -175,8 +234,11 @@ DescriptorRecipe recipe_from_json(const json& j) {
 // from an off-recipe map.
 json migrate_v1_payload(json p) {
   if (!p.is_object()) invalid("payload is not an object");
+  refuse_unknown_keys(p, {"name", "version", "classes", "descriptor", "features", "scaler", "svm", "training"},
+                      "payload");
   json recipe = field(p, "descriptor", "payload");
   if (!recipe.is_object()) invalid("payload.descriptor is not an object");
+  refuse_unknown_keys(recipe, {"map", "sh"}, "payload.descriptor");
   recipe["features"] = field(p, "features", "payload");
   recipe["off_recipe"] = to_string(OffRecipePolicy::AcceptFlagged);
   recipe["recipe_version"] = 1;
@@ -193,6 +255,7 @@ std::vector<ClassSpectrum> class_spectra_from_json(const json& t) {
   const json& arr = t.at("class_spectra");
   if (!arr.is_array()) invalid("training.class_spectra is not an array");
   for (const auto& c : arr) {
+    refuse_unknown_keys(c, {"label", "count", "log_xi_mean", "log_xi_std"}, "payload.training.class_spectra[]");
     ClassSpectrum s;
     s.label = str(c, "label", "class_spectra");
     s.count = integer(c, "count", "class_spectra");
@@ -227,8 +290,13 @@ json payload_of(const ClassifierModel::State& s) {
 
 std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
   if (!p.is_object()) invalid("payload is not an object");
+  refuse_unknown_keys(p, {"name", "version", "classes", "recipe", "scaler", "svm", "training"}, "payload");
   // SVM first: the State owns it by value.
   const json& sj = field(p, "svm", "payload");
+  refuse_unknown_keys(sj,
+                      {"type", "kernel", "C", "gamma", "n_features", "n_classes", "labels", "n_sv", "support_vectors",
+                       "sv_coef", "rho", "prob_a", "prob_b"},
+                      "payload.svm");
   if (str(sj, "type", "svm") != "c_svc" || str(sj, "kernel", "svm") != "rbf")
     invalid("only an RBF C-SVM is supported (svm.type c_svc, svm.kernel rbf)");
   SvmModelData svm;
@@ -263,11 +331,16 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
     invalid(e.what());
   }
   const json& sc = field(p, "scaler", "payload");
+  refuse_unknown_keys(sc, {"mean", "scale"}, "payload.scaler");
   const std::vector<double> mean = numbers(field(sc, "mean", "scaler"), "scaler.mean");
   const std::vector<double> scale = numbers(field(sc, "scale", "scaler"), "scaler.scale");
   s->scaler.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
   s->scaler.scale = Eigen::Map<const Eigen::VectorXd>(scale.data(), static_cast<Eigen::Index>(scale.size()));
   const json& t = field(p, "training", "payload");
+  refuse_unknown_keys(t,
+                      {"dataset_sha256", "trained_at", "samples", "best_c", "best_gamma", "grid_score", "test_accuracy",
+                       "nested_cv_mean", "nested_cv_std", "notes", "class_spectra"},
+                      "payload.training");
   s->summary.dataset_sha256 = str(t, "dataset_sha256", "training");
   s->summary.trained_at = str(t, "trained_at", "training");
   s->summary.samples = integer(t, "samples", "training");
@@ -323,9 +396,10 @@ std::string descriptor_recipe_json_text(const DescriptorRecipe& recipe) { return
 
 nlohmann::json recipe_to_json(const DescriptorRecipe& r) {
   json out = json::object();
-  SettingsWriter writer{out};
+  const int version = recipe_version_of(r);
+  SettingsWriter writer{out, version};
   visit_recipe(writer, r);
-  out["recipe_version"] = DescriptorRecipe::kVersion;
+  out["recipe_version"] = version;
   out["features"]["names"] = feature_names(r.features);  // for readers of the file; checked on load
   return out;
 }
@@ -380,6 +454,7 @@ ClassifierModel ClassifierModel::from_json_text(const std::string& text) {
                             "model file format version " + std::to_string(version) + " is not supported (this build reads versions 1 and " +
                                 std::to_string(kFormatVersion) + ")",
                             {{"version", version}, {"supported", std::int64_t{kFormatVersion}}});
+  refuse_unknown_keys(doc, {"format", "format_version", "payload", "payload_sha256"}, "document");
   const json& payload = field(doc, "payload", "document");
   const std::string seal = str(doc, "payload_sha256", "document");
   const std::string actual = Sha256::hex(payload.dump());

@@ -1,6 +1,6 @@
 #pragma once
 // SHA-256 (FIPS 180-4), small and dependency-free. Used to seal the model file's canonical payload so that an
-// edited or truncated model is refused (classification.md "Loading checks version and consistency"), and to
+// edited or truncated model is refused (docs/design/classification.md "Loading checks version and consistency"), and to
 // fingerprint a training data set.
 
 #include <array>

@@ -1,6 +1,6 @@
 #pragma once
 // Stratified resampling for model selection and evaluation (paper §6: scikit-learn's StratifiedShuffleSplit and
-// a stratified 20 % test split; classification.md: nested, repeated stratified cross-validation).
+// a stratified 20 % test split; docs/design/classification.md: nested, repeated stratified cross-validation).
 // Deterministic for a seed on every platform: our own shuffle on std::mt19937_64 (the standard distributions are
 // implementation-defined). Not bit-compatible with numpy's permutations; parity tests pass the splits explicitly.
 

@@ -1,5 +1,5 @@
 #pragma once
-// z-score standardisation fitted on training data only (classification.md, feature pipeline), identical to
+// z-score standardisation fitted on training data only (docs/design/classification.md, feature pipeline), identical to
 // scikit-learn's StandardScaler: population standard deviation (ddof = 0), and a scale of 1 for a constant
 // column so that it maps to 0 instead of dividing by zero.
 

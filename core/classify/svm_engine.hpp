@@ -1,5 +1,5 @@
 #pragma once
-// RBF C-SVM on libsvm 3.24 (the engine behind scikit-learn's SVC; paper §6, classification.md), wrapped so that
+// RBF C-SVM on libsvm 3.24 (the engine behind scikit-learn's SVC; paper §6, docs/design/classification.md), wrapped so that
 // a model owns everything libsvm points into. libsvm traps handled here:
 //  * a freshly trained svm_model points into the training nodes: we copy the trained model into SvmModelData
 //    (plain owned arrays) right away and free libsvm's struct; prediction runs on an svm_model *view* whose

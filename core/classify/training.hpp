@@ -1,5 +1,5 @@
 #pragma once
-// Training a ClassifierModel (paper §6; classification.md): feature pipeline -> stratified 20 % test split ->
+// Training a ClassifierModel (paper §6; docs/design/classification.md): feature pipeline -> stratified 20 % test split ->
 // z-score fitted on the training split -> grid search (StratifiedShuffleSplit, fixed seed) -> RBF C-SVM with
 // Platt probabilities at the best (C, gamma) -> test accuracy, confusion matrix, per-class P/R/F1 -> nested,
 // repeated stratified CV (outer k-fold repeated; inner grid search on each outer training fold, scaler refitted

@@ -1,5 +1,5 @@
 #pragma once
-// Presenting a training run (classification.md: "Report like Table 1 ... a heat map is what people want to look
+// Presenting a training run (docs/design/classification.md: "Report like Table 1 ... a heat map is what people want to look
 // at ... also a confusion matrix, per-class precision/recall/F1, and an honest nested-CV estimate"):
 // a plain-text table and an SVG heat map of the grid accuracy (ColorBrewer BuPu, as the paper). The JSON report is
 // the wire library's (wire/training_report_json.hpp).

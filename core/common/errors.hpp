@@ -3,7 +3,7 @@
 // a human message with the numbers that matter, and structured details. Numerical outcomes that are
 // not bugs (did not converge, flipped triangles) are *status values* in result structs, not exceptions.
 //
-// The one mapping from ErrorCategory to an HTTP status lives in server/ (error_mapping.cpp).
+// The one table from ErrorCategory to an HTTP status lives in server/error_mapping.cpp (kCategoryStatus).
 
 #include <cstdint>
 #include <map>
@@ -15,16 +15,16 @@ namespace wish {
 
 // Broad class of an error; decides the HTTP status and the CLI exit code.
 enum class ErrorCategory {
-  InvalidInput,       // malformed file or bad parameter (HTTP 400)
-  UnsupportedFormat,  // not OBJ/PLY/OFF/STL (415)
-  TooLarge,           // a configured limit was exceeded (413)
-  Unmappable,         // valid mesh that cannot be mapped to a sphere, or a map that failed verification (422)
-  NotFound,           // unknown model or resource (404)
-  Timeout,            // the per-request time limit passed (504)
-  Unavailable,        // queue full / shutting down (503)
-  Internal,           // a bug or an unexpected solver state (500)
-  Io,                 // a file could not be read or written: a named input missing, an output not writable (500
-                      // in the service, whose own files these are; a distinct exit reason in the CLI)
+  InvalidInput,       // malformed file or bad parameter
+  UnsupportedFormat,  // not OBJ/PLY/OFF/STL
+  TooLarge,           // a configured limit was exceeded
+  Unmappable,         // valid mesh that cannot be mapped to a sphere, or a map that failed verification
+  NotFound,           // unknown model or resource
+  Timeout,            // the per-request time limit passed
+  Unavailable,        // queue full / shutting down
+  Internal,           // a bug or an unexpected solver state
+  Io,                 // a file could not be read or written: a named input missing, an output not writable (in the
+                      // service a server error, whose own files these are; a distinct exit reason in the CLI)
 };
 
 const char* to_string(ErrorCategory category);

@@ -1,5 +1,5 @@
 #pragma once
-// Cotangent Laplacian, POSITIVE SEMIDEFINITE convention (spherical-map.md §1):
+// Cotangent Laplacian, POSITIVE SEMIDEFINITE convention (docs/design/spherical-map.md §1):
 //   w_ij = ½ (cot α_ij + cot β_ij) over the two corners opposite edge ij,  L_ij = −w_ij (i ≠ j),  L_ii = Σ_j w_ij,
 // so L·1 = 0 and xᵀLx = ½ Σ_ij w_ij |x_i − x_j|² ≥ 0 (Dirichlet energy ×2). libigl's cotmatrix is −L.
 // Units: dimensionless (cotangents), so (Lx)_i ≈ 2 M_i H_i N_i has units of length.

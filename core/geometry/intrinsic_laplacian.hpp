@@ -1,6 +1,6 @@
 #pragma once
 // Robust cotan Laplacian of a triangle mesh from its EDGE LENGTHS, keeping the user's vertices and connectivity
-// (real-meshes.md "Robust operators"):
+// (docs/design/real-meshes.md "Robust operators"):
 //  1. Intrinsic mollification (Sharp & Crane 2020, "A Laplacian for Nonmanifold Triangle Meshes", §4.5): one
 //     ε ≥ 0 is added to every edge length so that every triangle satisfies the triangle inequality with margin
 //     δ·h̄ (h̄ = mean edge length):  ε = max over faces and corners of max(0, δ·h̄ − (l_ij + l_jk − l_ki)).
@@ -23,7 +23,7 @@
 namespace wish::geometry {
 
 enum class LaplacianKind {
-  Extrinsic,          // cotans of the mesh's own triangles from positions (spherical-map.md §1); not robust
+  Extrinsic,          // cotans of the mesh's own triangles from positions (docs/design/spherical-map.md §1); not robust
   Mollified,          // cotans from mollified lengths on the mesh's own triangles
   IntrinsicDelaunay,  // mollified lengths, then intrinsic Delaunay flips (the default)
 };

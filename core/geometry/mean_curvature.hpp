@@ -1,5 +1,5 @@
 #pragma once
-// Scalar mean curvature and Willmore energy (spherical-map.md §1).
+// Scalar mean curvature and Willmore energy (docs/design/spherical-map.md §1).
 //   Mean-curvature normal: (L x)_i ≈ 2 M_i H_i N_i with the PSD cot Laplacian L and lumped mass M.
 //   H_i = N_i·(L x)_i / (2 M_i),  H = (κ1 + κ2)/2,  sign: H > 0 on a convex surface with outward normals
 //   (unit sphere: H ≡ 1). Units: 1/length.

@@ -19,7 +19,7 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// A map that failed verification is never passed on as a success (spherical-map.md §7).
+// A map that failed verification is never passed on as a success (docs/design/spherical-map.md §7).
 void require_verified_map(const SphericalMapResult& map) {
   if (map.ok()) return;
   const MapAttempt* last = map.attempts.empty() ? nullptr : &map.attempts.back();
@@ -96,7 +96,7 @@ void classify_described(PipelineResult& result, const ClassifierModel& model) {
 PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel& model, PipelineOptions options,
                                    const Deadline& deadline) {
   const auto start = Clock::now();
-  // The descriptor must be computed exactly as the model's training descriptors were (classification.md).
+  // The descriptor must be computed exactly as the model's training descriptors were (docs/design/classification.md).
   PipelineResult result = describe_mesh_bytes(bytes, options_for_recipe(model.recipe(), std::move(options)), deadline);
   const auto t = Clock::now();
   classify_described(result, model);

@@ -1,7 +1,7 @@
 #pragma once
 // Spherical-harmonic basis up to degree Lmax: complex and real, orthonormal on the unit sphere.
 //
-// Conventions (../shared/design/sh-and-invariants.md):
+// Conventions (docs/design/sh-and-invariants.md):
 //   * point u = (sin t cos p, sin t sin p, cos t): t = colatitude in [0, pi], p = azimuth.
 //   * index of (l, m), m = -l..l:  j = l^2 + l + m (0-based); k = (Lmax+1)^2 functions.
 //   * complex  Y_l^m = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!) P_l^m(cos t) e^{i m p}, P_l^m WITH the Condon-Shortley

@@ -1,5 +1,5 @@
 #pragma once
-// Spherical-harmonics descriptor of a mapped mesh (paper §5, ../shared/design/sh-and-invariants.md).
+// Spherical-harmonics descriptor of a mapped mesh (paper §5, docs/design/sh-and-invariants.md).
 // Conventions: u = (sin t cos p, sin t sin p, cos t); complex Y_l^m orthonormal with Condon-Shortley phase;
 // coefficient index j = l^2 + l + m (0-based), k = (Lmax+1)^2 coefficients per coordinate.
 

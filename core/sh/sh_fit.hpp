@@ -1,6 +1,6 @@
 #pragma once
 // Regularised least-squares fit of the coordinate functions x, y, z on the sphere map (paper Eq. 10-13;
-// ../shared/design/sh-and-invariants.md):
+// docs/design/sh-and-invariants.md):
 //
 //   C = argmin  sum_i w_i |Y(u_i) C - X_i|^2 + nu |Gamma C|^2,   Gamma = diag(l_j (l_j + 1)),
 //

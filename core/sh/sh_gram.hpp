@@ -10,7 +10,7 @@
 //   points (n (2L+1)^2 work, no n x k matrix). The integral is evaluated exactly: Gauss-Legendre in cos t with
 //   2L+1 nodes (exact to polynomial degree 4L+1 >= 4L) and analytic integration in p from the Fourier
 //   coefficients of g on each node's ring, block by block in (m, m'); (2L+1) k^2 flops.
-//   Both paths agree to ~1e-14 relative (tests/sh/sh_gram_test.cpp).
+//   Both paths agree to ~1e-14 relative (tests/sh/sh_fit_test.cpp, ShGram.QuadratureEqualsProduct).
 
 #include <Eigen/Core>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Conformalized mean curvature flow (Kazhdan, Solomon, Ben-Chen 2012; spherical-map.md §8.1).
+// Conformalized mean curvature flow (Kazhdan, Solomon, Ben-Chen 2012; docs/design/spherical-map.md §8.1).
 // Semi-implicit MCF with the stiffness frozen at the input:  (M_t + δ L₀) x_{t+1} = M_t x_t,
 // L₀ = PSD cot Laplacian of the (area-4π normalised) input, M_t = lumped mass of the current surface; after each
 // step centre on the area-weighted centroid and rescale to area 4π. δ is in units of area at total area 4π

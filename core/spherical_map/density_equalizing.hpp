@@ -1,6 +1,6 @@
 #pragma once
 // Area-aware correction of a verified conformal sphere map (issue 11/12 "area-aware variant";
-// ../shared/design/real-meshes.md "Area-aware variants"). Beyond the paper: the paper's descriptor uses the
+// docs/design/real-meshes.md "Area-aware variants"). Beyond the paper: the paper's descriptor uses the
 // conformal map, which keeps angles and gives up area — a thin neck or protrusion is squeezed to 1e-6 of the sphere
 // and is invisible to an SH fit at any practical Lmax. This step moves the sphere points, starting from the
 // (Möbius-normalised, verified) conformal map, until every part of the surface covers a share of the sphere close

@@ -1,5 +1,5 @@
 #pragma once
-// The quaternionic Dirac system of one spin transformation (CPS11 §5, CPS13 §3; spherical-map.md §4).
+// The quaternionic Dirac system of one spin transformation (CPS11 §5, CPS13 §3; docs/design/spherical-map.md §4).
 //
 // For a per-vertex curvature change ρ (real, units 1/length) the spin transformation is the λ (per-vertex
 // quaternion) minimising Σ_f A_f |(Dλ)_f − (ρλ)_f|² with ‖λ‖ = 1, where
@@ -22,7 +22,7 @@
 
 namespace wish::spherical {
 
-// Two equivalent storages of 𝔼 (spherical-map.md §9 "complex 2V×2V Hermitian representation"):
+// Two equivalent storages of 𝔼 (docs/design/spherical-map.md §9 "complex 2V×2V Hermitian representation"):
 //  * real 4V×4V symmetric PSD: block (i, j) = left_block(𝔼[i, j]), λ_i = (w, x, y, z) in rows 4i..4i+3;
 //  * complex 2V×2V Hermitian PSD: writing q = z₁ + j z₂ (z₁ = a + bi, z₂ = c − di) and λ = w₁ + j w₂ with complex
 //    scalars acting on the RIGHT (w₁ = w + xi, w₂ = y − zi), left multiplication by q is the complex-linear map

@@ -1,6 +1,6 @@
 #pragma once
 // Linear conformal sphere map: puncture + harmonic map to a triangle + inverse stereographic projection
-// (FLASH, Choi, Lam & Lui 2015, steps 1–3; spherical-map.md §8.2). The last fallback of the chain (§7): two sparse
+// (FLASH, Choi, Lam & Lui 2015, steps 1–3; docs/design/spherical-map.md §8.2). The last fallback of the chain (§7): two sparse
 // V×V solves, and — unlike the flows — bijective BY CONSTRUCTION:
 //  1. Puncture the "big triangle" T = (a, b, c), the most equilateral face (smallest max-edge/min-edge ratio); the
 //     rest of the mesh is a disk bounded by a → c → b.
@@ -18,7 +18,7 @@
 //     conformal and orientation-preserving (0 ↦ north pole); T becomes the cap around the south pole (∞), which
 //     is smaller than a hemisphere because the circumradius exceeds max |z| ≥ 1.
 // FLASH's step 4 (Beltrami correction of the distortion near T) is not implemented: K_max ≈ 2–2.5 near T
-// (spherical-map.md §9). The caller Möbius-balances and verifies as for the flows; verification is still needed
+// (docs/design/spherical-map.md §9). The caller Möbius-balances and verifies as for the flows; verification is still needed
 // because exponentially compressed regions can meet the limits of double precision.
 
 #include "core/mesh/mesh.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Verification of a sphere map u: input mesh → S² (spherical-map.md §7). Fills MapQuality:
+// Verification of a sphere map u: input mesh → S² (docs/design/spherical-map.md §7). Fills MapQuality:
 //  * flipped faces: (a,b,c) inverted iff ((u_b − u_a)×(u_c − u_a))·(u_a + u_b + u_c) ≤ 0 — must be 0;
 //  * degenerate faces: numerically degenerate sphere triangles, whose orientation (the flip test) is not reliable in
 //    double precision: smallest height 2·area/longest edge < thresholds.degenerate_height (see there), or area

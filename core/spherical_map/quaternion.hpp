@@ -1,5 +1,5 @@
 #pragma once
-// Quaternion algebra for spin transformations (CPS11 §2; spherical-map.md "Notation").
+// Quaternion algebra for spin transformations (CPS11 §2; docs/design/spherical-map.md "Notation").
 // q = w + x i + y j + z k, Hamilton product (i² = j² = k² = ijk = −1); a vector v ∈ R³ is the imaginary quaternion
 // v₁i + v₂j + v₃k, and for imaginary u, v:  u v = −u·v + u×v.
 // Real 4×4 form: left multiplication p ↦ q p on coefficient vectors (w, x, y, z) is block(q); block(p)block(q) =

@@ -1,5 +1,5 @@
 // compute_spherical_map(): flow → radial projection → Möbius balancing → verification, with the fallback chain
-// (spherical-map.md §7): (i) step rejection with halved τ (inside the flows), (ii) more steps (continuing the
+// (docs/design/spherical-map.md §7): (i) step rejection with halved τ (inside the flows), (ii) more steps (continuing the
 // flowed surface), (iii) the filtered flow, (iv) cMCF run to convergence, (v) the linear method (§8.2), each
 // followed by Möbius balancing and verification; every attempt recorded; first Ok attempt or least-bad returned.
 #include "core/spherical_map/spherical_map.hpp"
@@ -173,7 +173,7 @@ MapAttempt run_attempt(const Mesh& mesh, const MapAttemptPlan& plan, const Spher
     // Willmore energy peaking at 2e4 in the flat state): the surface ends nearly round, but its radial projection
     // reverses orientation, so every face reads as flipped (degree −1) although the map is a bijection. A mirror
     // (z → −z) makes the projection orientation-preserving. K is unchanged (a reflection is an isometry), and so
-    // are the invariants ξ(l), which are O(3)-invariant (sh-and-invariants.md). The flow's equations commute with
+    // are the invariants ξ(l), which are O(3)-invariant (docs/design/sh-and-invariants.md). The flow's equations commute with
     // the mirror (they act on each coordinate alike), so a continued flow is unaffected.
     if (geometry::signed_volume(flow.vertices, mesh.faces) < 0) {
       flow.vertices.col(2) *= -1.0;

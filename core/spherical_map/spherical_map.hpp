@@ -1,11 +1,11 @@
 #pragma once
-// Conformal map of a closed genus-0 mesh onto the unit sphere (paper §4; ../shared/design/spherical-map.md).
+// Conformal map of a closed genus-0 mesh onto the unit sphere (paper §4; docs/design/spherical-map.md).
 // Entry point: compute_spherical_map(). Methods: discrete Willmore flow in curvature space with spin
 // transformations (Crane, Pinkall, Schröder 2013), conformalized mean curvature flow (Kazhdan et al. 2012) and the
 // linear puncture/harmonic/stereographic method (FLASH, Choi et al. 2015; bijective by construction).
 // Every map is projected to the sphere, Möbius-normalised (area-centre balancing with input vertex areas as
 // weights) and verified; a map that fails verification is never reported as Ok. With `fallback`, a failed attempt
-// is followed by the chain of spherical-map.md §7 (more steps → filtered flow → cMCF → linear method), stopping at
+// is followed by the chain of docs/design/spherical-map.md §7 (more steps → filtered flow → cMCF → linear method), stopping at
 // the first Ok attempt that is final (a repaired, still distorted Ok map is provisional: the chain goes on within
 // its budget); every attempt is recorded, and the returned map is the least distorted Ok attempt or, when none is
 // Ok, the least-bad one (see SphericalMapResult). Local repair: untangle_in_charts (chart_untangle.hpp), then the
@@ -57,7 +57,7 @@ const char* to_string(LinearSolverKind solver);
 LinearSolverKind linear_solver_from_name(const std::string& name);  // "cholmod" | "eigen_simplicial"; throws InvalidInputError
 
 struct WillmoreOptions {
-  double tau = 0.95;                 // dimensionless step: rho = -tau * P(H) (spherical-map.md §3)
+  double tau = 0.95;                 // dimensionless step: rho = -tau * P(H) (docs/design/spherical-map.md §3)
   int max_steps = 20;                // step cap (the paper uses 10 on nuclei)
   double roundness_tolerance = 2e-3; // stop when std(r)/mean(r) falls below
   // ... or when the relative energy decrease per step falls below (a stalled flow: the map is then accepted if it
@@ -65,7 +65,7 @@ struct WillmoreOptions {
   // A step whose energy rises for every tau down to min_tau is the same kind of stall.
   double energy_tolerance = 1e-4;
   // Added: ... or when the roundness falls by less than this fraction in a step (R plateau). A healthy flow halves R
-  // per step (spherical-map.md §9); on coarse or staircase meshes R levels off at ~1e-2 while the energy keeps
+  // per step (docs/design/spherical-map.md §9); on coarse or staircase meshes R levels off at ~1e-2 while the energy keeps
   // creeping down by ~0.5 %/step and K slowly drifts (cf. the peanut in §9: "stop early rather than iterating
   // long"). Same treatment as an energy plateau: a stop, judged by verification. Only while the energy also falls
   // by less than roundness_stall_energy per step: an R that stalls or rises while E still drops fast (homer, spool:
@@ -80,7 +80,7 @@ struct WillmoreOptions {
   double max_eigen_residual = 1e-4;
   double energy_increase_tolerance = 1e-3;  // reject a step raising E_W by more than this fraction
   // Added: solve the Dirac eigenproblem in its complex Hermitian 2V×2V form (same λ, ~2× fewer Cholesky flops)
-  // instead of the real symmetric 4V×4V form (spherical-map.md §4, §9).
+  // instead of the real symmetric 4V×4V form (docs/design/spherical-map.md §4, §9).
   bool complex_dirac = true;
   bool operator==(const WillmoreOptions&) const = default;
 };
@@ -105,7 +105,7 @@ struct CmcfOptions {
   bool operator==(const CmcfOptions&) const = default;
 };
 
-// Added: the linear method (spherical-map.md §8.2; linear_map.hpp).
+// Added: the linear method (docs/design/spherical-map.md §8.2; linear_map.hpp).
 struct LinearMapOptions {
   // Cot weights below min_weight × mean |w| are raised to it: all weights positive ⇒ Tutte/Floater embedding.
   double min_weight = 1e-3;
@@ -240,7 +240,7 @@ struct MapAttemptPlan {
   bool operator==(const MapAttemptPlan&) const = default;
 };
 
-// The chain for `options`, ordered by cost (spherical-map.md §7): the requested method, then (with fallback)
+// The chain for `options`, ordered by cost (docs/design/spherical-map.md §7): the requested method, then (with fallback)
 // more steps of the same flow, cMCF run to its stall, the linear map with intrinsic weights, the clamped
 // (Tutte) linear map. Attempts that cannot help are skipped at run time (see compute_spherical_map).
 std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options);

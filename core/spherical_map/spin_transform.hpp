@@ -1,5 +1,5 @@
 #pragma once
-// The two linear-algebra halves of one spin transformation (CPS11 §5; spherical-map.md §4–5):
+// The two linear-algebra halves of one spin transformation (CPS11 §5; docs/design/spherical-map.md §4–5):
 //  1. λ = smallest eigenvector of the Dirac matrix 𝔼(ρ) by shifted inverse power iteration, with a residual check;
 //  2. new edge vectors ẽ = ∫₀¹ conj(λ(t)) e λ(t) dt, their cot-weighted divergence ω, and the Poisson solve
 //     L x̃ = ω (PSD cot Laplacian of the current mesh, one vertex pinned so the factored matrix is definite).

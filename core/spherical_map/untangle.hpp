@@ -1,5 +1,5 @@
 #pragma once
-// Local repair of a sphere map that is bijective except for a few faces (spherical-map.md §7 "always finish with
+// Local repair of a sphere map that is bijective except for a few faces (docs/design/spherical-map.md §7 "always finish with
 // the flip check"). Conformal maps preserve angles, so an input triangle with an angle near 180° keeps it on the
 // sphere; its circumcircle is then so large that the FLAT chord triangle faces the origin (a flip by the
 // verification test, although the curved image is fine), and long protrusions are compressed to heights at the

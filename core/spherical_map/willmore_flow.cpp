@@ -306,7 +306,7 @@ FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, Linea
                            std::to_string(tau * 2) + " < 2*min_tau";
           if (reject == "energy") {
             // No step of any size lowers the energy: the flow has stalled at its discrete minimum. Like an energy
-            // plateau this is a stop, not a failure; the map is judged by verification (spherical-map.md §7).
+            // plateau this is a stop, not a failure; the map is judged by verification (docs/design/spherical-map.md §7).
             result.message = "stalled: " + result.message;
             result.stop = FlowStop::EnergyStall;
           } else {

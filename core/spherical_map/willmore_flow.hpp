@@ -1,6 +1,6 @@
 #pragma once
 // Discrete Willmore flow in curvature space with spin transformations (Crane, Pinkall, Schröder 2013, "Robust
-// Fairing via Conformal Curvature Flow"; spherical-map.md §1–5). One step, relative to the current surface:
+// Fairing via Conformal Curvature Flow"; docs/design/spherical-map.md §1–5). One step, relative to the current surface:
 //   normals N, cot Laplacian L (PSD), lumped mass M, mean curvature H_i = N_i·(Lx)_i/(2M_i)  (H > 0 convex)
 //   → admissible projection P (⟨,⟩_M-orthogonal to {1, N_x, N_y, N_z})
 //   → curvature change ρ = −τ P(H)  (or −τ P(H_σ), H_σ = (M + σL)⁻¹ M H, for the filtered flow)

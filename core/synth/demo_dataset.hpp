@@ -1,5 +1,5 @@
 #pragma once
-// The committed, deterministic generator of the SYNTHETIC demo set (issue 5, classification.md): nucleus-like
+// The committed, deterministic generator of the SYNTHETIC demo set (issue 5, docs/design/classification.md): nucleus-like
 // shapes of the paper's six classes, meshed like segmentation output — shape -> binary label volume on a fixed
 // voxel grid -> largest component, cavities filled -> marching tetrahedra -> light Taubin smoothing — giving
 // irregular triangles and a few thousand vertices. Every mesh is verified closed, manifold, one component,

@@ -1,5 +1,5 @@
 #pragma once
-// Nucleus-like shapes for the synthetic demo set (classification.md "The demo data set"): per class size,
+// Nucleus-like shapes for the synthetic demo set (docs/design/classification.md "The demo data set"): per class size,
 // elongation, flattening, lobulation, invaginations and surface roughness, plus bending for the cells that wrap
 // around capillaries (endothelium, pericyte). A shape is star-shaped about its centre in an ellipsoidal frame
 // (inside iff rho < 1 + f(direction)) and then bent by a diffeomorphism, so it is topologically a ball; the

@@ -1,5 +1,5 @@
 #pragma once
-// A binary volume (one object of a segmentation, or a voxelised demo shape; classification.md: demo meshes are made
+// A binary volume (one object of a segmentation, or a voxelised demo shape; docs/design/classification.md: demo meshes are made
 // "the way segmentation output is"), and the clean-up that makes its surface one closed genus-0-candidate sheet:
 // keep the largest foreground component and fill enclosed background cavities.
 // Connectivity is the 14-neighbourhood of the Kuhn (Freudenthal) triangulation used by marching_tetrahedra:

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -166,6 +167,106 @@ TEST(ModelFile, RefusesMismatchedSizesEvenWhenResealed) {
     expect_refused(reseal(d), "model_invalid", "RBF");
   }
   EXPECT_NO_THROW((void)ClassifierModel::from_json_text(reseal(doc)));
+}
+
+// An unknown key anywhere in the file is refused (issue 27): a reader that skipped it would compute with its own
+// value of a setting the file states. The message names the key's path.
+TEST(ModelFile, RefusesUnknownKeysAnywhereNamingThem) {
+  const auto doc = nlohmann::json::parse(trained().to_json_text());
+  const std::vector<std::vector<std::string>> places{
+      {},
+      {"payload"},
+      {"payload", "svm"},
+      {"payload", "scaler"},
+      {"payload", "training"},
+      {"payload", "recipe"},
+      {"payload", "recipe", "map"},
+      {"payload", "recipe", "map", "cmcf"},
+      {"payload", "recipe", "map", "area_correction"},
+      {"payload", "recipe", "sh"},
+      {"payload", "recipe", "features"}};
+  for (const auto& place : places) {
+    auto d = doc;
+    nlohmann::json* at = &d;
+    std::string path = place.empty() ? "document" : "";
+    for (const auto& k : place) {
+      at = &(*at)[k];
+      path += (path.empty() ? "" : ".") + k;
+    }
+    ASSERT_TRUE(at->is_object()) << path;
+    (*at)["frobnication"] = 1;
+    expect_refused(reseal(d), "model_version", "unknown key " + path + ".frobnication");
+  }
+  {
+    auto d = doc;
+    ASSERT_FALSE(d["payload"]["training"]["class_spectra"].empty());
+    d["payload"]["training"]["class_spectra"][0]["extra"] = 1;
+    expect_refused(reseal(d), "model_version", "unknown key payload.training.class_spectra[].extra");
+  }
+  // ... and ClassifierModel::load names the file too.
+  auto d = doc;
+  d["payload"]["recipe"]["map"]["frobnication"] = true;
+  const auto path = std::filesystem::temp_directory_path() / "wish_model_unknown_key_test.json";
+  std::ofstream(path) << reseal(d);
+  try {
+    (void)ClassifierModel::load(path);
+    FAIL() << "a model with an unknown key was loaded";
+  } catch (const InvalidInputError& e) {
+    EXPECT_EQ(e.code(), "model_version");
+    EXPECT_NE(std::string(e.what()).find(path.string() + ": unknown key payload.recipe.map.frobnication"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+// Version 3 (chain_budget_seconds, linear_reserve_seconds, cmcf.stall_patience) is what today's defaults write; a
+// newer version is refused with the reason. A file of a computed version (3 on) holds every field of its version,
+// while a version-2 file without a version-3 field takes the field's legacy value (how version-2 builds computed).
+TEST(ModelFile, RecipeVersionsOldAndNew) {
+  const auto doc = nlohmann::json::parse(trained().to_json_text());
+  ASSERT_EQ(doc["payload"]["recipe"]["recipe_version"], 3);
+  {
+    auto d = doc;
+    d["payload"]["recipe"]["recipe_version"] = 4;
+    expect_refused(reseal(d), "model_version", "written by a newer wish");
+  }
+  auto d = doc;
+  d["payload"]["recipe"]["map"]["cmcf"].erase("stall_patience");
+  expect_refused(reseal(d), "model_invalid", "missing field payload.recipe.map.cmcf.stall_patience");
+  d["payload"]["recipe"]["recipe_version"] = 2;
+  d["payload"]["recipe"]["map"].erase("chain_budget_seconds");
+  const ClassifierModel v2 = ClassifierModel::from_json_text(reseal(d));
+  EXPECT_EQ(v2.recipe().map.cmcf.stall_patience, 1);
+  EXPECT_EQ(v2.recipe().map.chain_budget_seconds, 0.0);
+  EXPECT_EQ(v2.recipe().map.linear_reserve_seconds, trained().recipe().map.linear_reserve_seconds);  // as stated
+  // Written again, its version is computed from its fields: linear_reserve_seconds is a version-3 field away from
+  // its legacy value 0.
+  EXPECT_EQ(nlohmann::json::parse(v2.to_json_text())["payload"]["recipe"]["recipe_version"], 3);
+}
+
+// map.min_fallback_flow_seconds was in version-2 files for a few hours of 2026-12-02: at 0 (what this build
+// computes) such a file loads, another value is refused, and in a version-3 file it is an unknown key.
+TEST(ModelFile, RetiredKeyOnlyInTheVersionsThatHadIt) {
+  auto d = nlohmann::json::parse(trained().to_json_text());
+  d["payload"]["recipe"]["map"]["min_fallback_flow_seconds"] = 0.0;
+  expect_refused(reseal(d), "model_version", "unknown key payload.recipe.map.min_fallback_flow_seconds");
+  d["payload"]["recipe"]["recipe_version"] = 2;
+  EXPECT_NO_THROW((void)ClassifierModel::from_json_text(reseal(d)));
+  d["payload"]["recipe"]["map"]["min_fallback_flow_seconds"] = 0.5;
+  expect_refused(reseal(d), "model_version", "retired");
+}
+
+// The bundled model is exactly what this build writes for it (its recipe version computed from its fields).
+TEST(ModelFile, BundledDefaultModelIsAsThisBuildWritesIt) {
+  const auto path = testing::project_data_dir() / "models" / "default.json";
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const ClassifierModel model = ClassifierModel::load(path);
+  EXPECT_EQ(model.to_json_text(), text.str());
+  EXPECT_EQ(recipe_version_of(model.recipe()), 3);
 }
 
 // A model file of format version 1 (the bundled default model as main cfdc7a1 wrote it, committed as a fixture)

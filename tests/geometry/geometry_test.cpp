@@ -1,4 +1,4 @@
-// Operator identities and curvature facts of spherical-map.md §1 / §9.
+// Operator identities and curvature facts of docs/design/spherical-map.md §1 / §9.
 #include <cmath>
 #include <numbers>
 

@@ -3,23 +3,65 @@
 
 #include "server/error_mapping.hpp"
 
+#include <map>
 #include <new>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/common/error_codes.hpp"
+#include "server/openapi_document.hpp"
 
 namespace wish::server {
 namespace {
 
 TEST(ErrorMapping, OneStatusPerCategory) {
-  EXPECT_EQ(http_status(ErrorCategory::InvalidInput), 400);
-  EXPECT_EQ(http_status(ErrorCategory::UnsupportedFormat), 415);
+  // Every category has exactly one entry in the table (kCategoryStatus); a few statuses clients rely on.
+  std::set<ErrorCategory> seen;
+  for (const auto& entry : category_statuses()) {
+    EXPECT_TRUE(seen.insert(entry.category).second) << to_string(entry.category) << " listed twice";
+    EXPECT_EQ(http_status(entry.category), entry.status);
+  }
+  EXPECT_EQ(seen.size(), 9u);
   EXPECT_EQ(http_status(ErrorCategory::TooLarge), 413);
   EXPECT_EQ(http_status(ErrorCategory::Unmappable), 422);
-  EXPECT_EQ(http_status(ErrorCategory::NotFound), 404);
-  EXPECT_EQ(http_status(ErrorCategory::Timeout), 504);
   EXPECT_EQ(http_status(ErrorCategory::Unavailable), 503);
-  EXPECT_EQ(http_status(ErrorCategory::Internal), 500);
+}
+
+// The contract the binary serves (proto/openapi.json, embedded) says what the table says: Error.code's statuses
+// (written by scripts/gen-error-codes.py from the table) and a response for every status a compute route can give.
+TEST(ErrorMapping, ContractStatusesFollowTheTable) {
+  const auto doc = nlohmann::json::parse(openapi_document());
+  const std::string summary = doc.at("components").at("schemas").at("Error").at("properties").at("error")
+                                  .at("properties").at("code").at("description").get<std::string>();
+  const auto by_status = summary.find("By HTTP status: ");
+  ASSERT_NE(by_status, std::string::npos) << summary;
+  std::map<std::string, int> contract_status;  // code -> status as the contract groups it
+  const std::regex group(R"((\d{3}): ([a-z0-9_, ]+)[;.])");
+  const std::string groups = summary.substr(by_status);
+  for (std::sregex_iterator it(groups.begin(), groups.end(), group), end; it != end; ++it) {
+    const int status = std::stoi((*it)[1].str());
+    std::stringstream codes((*it)[2].str());
+    for (std::string code; std::getline(codes, code, ',');) {
+      code.erase(0, code.find_first_not_of(' '));
+      contract_status[code] = status;
+    }
+  }
+  for (const auto& info : error_codes()) {
+    const int status = info.category ? http_status(*info.category) : info.transport_status;
+    EXPECT_EQ(contract_status[std::string(info.code)], status)
+        << info.code << ": the contract's status differs from the table (run scripts/gen-error-codes.py)";
+  }
+  for (const char* path : {"/v1/describe", "/v1/classify"}) {
+    const auto& responses = doc.at("paths").at(path).at("post").at("responses");
+    for (const auto category : {ErrorCategory::InvalidInput, ErrorCategory::UnsupportedFormat, ErrorCategory::TooLarge,
+                                ErrorCategory::Unmappable, ErrorCategory::Timeout, ErrorCategory::Unavailable})
+      EXPECT_TRUE(responses.contains(std::to_string(http_status(category)))) << path << " " << to_string(category);
+  }
 }
 
 TEST(ErrorMapping, WishErrorKeepsCodeMessageAndTypedDetails) {

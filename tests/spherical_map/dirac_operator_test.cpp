@@ -1,4 +1,4 @@
-// Algebra and operator identities (spherical-map.md §4, §5, §9).
+// Algebra and operator identities (docs/design/spherical-map.md §4, §5, §9).
 #include <cmath>
 #include <random>
 

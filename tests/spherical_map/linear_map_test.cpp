@@ -1,4 +1,4 @@
-// The linear fallback (FLASH steps 1–3, spherical-map.md §8.2), the numerical-degeneracy criterion of the
+// The linear fallback (FLASH steps 1–3, docs/design/spherical-map.md §8.2), the numerical-degeneracy criterion of the
 // verification (§7), the local untangling, and the fallback chain's bookkeeping.
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-// Möbius normalisation (mobius.hpp; spherical-map.md §8.3): the area-centre balancing must reach its fixed point
+// Möbius normalisation (mobius.hpp; docs/design/spherical-map.md §8.3): the area-centre balancing must reach its fixed point
 // on maps whose weight sits near two antipodal caps — the maps of elongated shapes, where the damped fixed-point
 // iteration it replaced stalled above the tolerance after 500 steps — and that fixed point is the Douady–Earle
 // barycentre, unique up to a rotation whatever boost the map started with.

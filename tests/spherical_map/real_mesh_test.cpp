@@ -1,4 +1,4 @@
-// Real-segmentation-mesh defects (issue 11, real-meshes.md): the robust operators and the map on constructed bad
+// Real-segmentation-mesh defects (issue 11, docs/design/real-meshes.md): the robust operators and the map on constructed bad
 // meshes. Every mesh here is closed, manifold and genus 0; each must get a BIJECTIVE map (0 flipped, 0 degenerate
 // faces, degree 1) with its distortion reported as a verdict.
 #include <cmath>

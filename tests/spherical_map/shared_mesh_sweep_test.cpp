@@ -1,5 +1,5 @@
 // Slow sweep: every closed genus-0 mesh in ../shared/data gets a verified bijective map (0 flipped, 0 degenerate
-// faces, degree 1) through the fallback chain (spherical-map.md §7). The nuclei and the C. elegans cell — the
+// faces, degree 1) through the fallback chain (docs/design/spherical-map.md §7). The nuclei and the C. elegans cell — the
 // meshes the paper is about — must get a Willmore map on the FIRST attempt. Prints one line per mesh and one per
 // attempt. WISH_SWEEP_FILTER=substring restricts the sweep to matching paths (for debugging one mesh).
 //   OPENBLAS_NUM_THREADS=1 build/flow/tests/spherical_map_shared_mesh_sweep_test

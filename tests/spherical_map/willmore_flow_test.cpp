@@ -1,4 +1,4 @@
-// Flow properties and map assertions of spherical-map.md §9.
+// Flow properties and map assertions of docs/design/spherical-map.md §9.
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -182,7 +182,7 @@ TEST(WillmoreFlow, FilteredFlowKeepsNoisyInputConformal) {
   o.fallback = false;
   const SphericalMapResult r = compute_spherical_map(noisy, o);
   EXPECT_EQ(r.quality.flipped_faces, 0);
-  EXPECT_LT(r.quality.conformal_mean, 1.15);  // unfiltered drifts far higher (spherical-map.md §9)
+  EXPECT_LT(r.quality.conformal_mean, 1.15);  // unfiltered drifts far higher (docs/design/spherical-map.md §9)
   EXPECT_TRUE(r.attempts[0].filtered);
 }
 

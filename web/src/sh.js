@@ -1,5 +1,5 @@
 // Spherical harmonics in the browser, with exactly the conventions of core/sh/sh_basis.hpp and
-// ../shared/design/sh-and-invariants.md:
+// docs/design/sh-and-invariants.md:
 //   * u = (sin t cos p, sin t sin p, cos t), t = colatitude, p = azimuth;
 //   * j = l^2 + l + m, m = -l..l; (Lmax+1)^2 coefficients per coordinate;
 //   * complex Y_l^m = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!) P_l^m(cos t) e^{i m p}, P_l^m WITH the Condon-Shortley
