@@ -2,7 +2,9 @@
 
 #include "core/common/error_codes.hpp"
 
+#include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "core/spherical_map/flow_step_cap.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/api_response.hpp"
 #include "server/loaded_model.hpp"
@@ -43,15 +45,18 @@ void check_descriptor_settings(const ComputeParams& params, const LoadedModel& l
                                 "=" + model_text + "); omit it to use the model's descriptor settings",
                             {{"parameter", parameter}, {"requested", requested}, {"model_value", model}, {"model", name}});
   };
-  if (params.lmax && *params.lmax != ds.sh.lmax)
-    mismatch("lmax", std::int64_t{*params.lmax}, std::int64_t{ds.sh.lmax}, std::to_string(*params.lmax),
+  const DescribeOverrides& given = params.descriptor;
+  if (given.lmax && *given.lmax != ds.sh.lmax)
+    mismatch("lmax", std::int64_t{*given.lmax}, std::int64_t{ds.sh.lmax}, std::to_string(*given.lmax),
              std::to_string(ds.sh.lmax));
-  const std::string model_method = to_string(ds.map.method);
-  if (params.method && *params.method != model_method)
-    mismatch("method", *params.method, model_method, *params.method, model_method);
-  if (params.steps && *params.steps != model_steps(ds))
-    mismatch("steps", std::int64_t{*params.steps}, std::int64_t{model_steps(ds)}, std::to_string(*params.steps),
-             std::to_string(model_steps(ds)));
+  if (given.method && *given.method != ds.map.method) {
+    const std::string requested = to_string(*given.method), model_method = to_string(ds.map.method);
+    mismatch("method", requested, model_method, requested, model_method);
+  }
+  const int model_cap = flow_step_cap(ds.map);
+  if (given.max_flow_steps && *given.max_flow_steps != model_cap)
+    mismatch("steps", std::int64_t{*given.max_flow_steps}, std::int64_t{model_cap},
+             std::to_string(*given.max_flow_steps), std::to_string(model_cap));
 }
 
 namespace {
@@ -84,21 +89,15 @@ ResultJsonOptions json_options_for(const ComputeJob& job) {
 
 // Describe: the request's descriptor settings over the defaults (and the settings block that says so).
 void apply_describe_settings(const ComputeJob& job, PipelineOptions& options, ResultJsonOptions& json_options) {
-  if (job.params.lmax) options.sh.lmax = *job.params.lmax;
-  if (job.params.method) options.map.method = map_method_from_name(*job.params.method);
-  if (job.params.steps) {
-    if (options.map.method == MapMethod::Cmcf) options.map.cmcf.max_steps = *job.params.steps;
-    else options.map.willmore.max_steps = *job.params.steps;
-  }
-  const int steps = options.map.method == MapMethod::Cmcf ? options.map.cmcf.max_steps : options.map.willmore.max_steps;
+  apply_overrides(job.params.descriptor, options);
   json_options.settings = settings_used(job.params.explicit_descriptor() ? "request" : "default", options.sh.lmax,
-                                        options.map.method, steps, options.sh);
+                                        options.map.method, flow_step_cap(options.map), options.sh);
 }
 
 void apply_model_settings(const ComputeJob& job, ResultJsonOptions& json_options) {
   const ClassifierModel& model = job.model->model;
   const auto& ds = model.recipe();
-  json_options.settings = settings_used("model", ds.sh.lmax, ds.map.method, model_steps(ds), ds.sh);
+  json_options.settings = settings_used("model", ds.sh.lmax, ds.map.method, flow_step_cap(ds.map), ds.sh);
   json_options.model_name = model.name();
   json_options.model_version = model.version();
 }
