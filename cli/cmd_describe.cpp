@@ -71,8 +71,10 @@ void describe_file(const std::string& file, const PipelineOptions& options, cons
     const std::string bytes = read_file_bytes(file);
     if (detect_volume_format(bytes) != VolumeFormat::Unknown) {
       volume_rows(file, bytes, volume, progress,
-                  [&](nlohmann::json& row, Mesh mesh) { describe_into(row, describe_mesh(std::move(mesh), options)); },
-                  fail, rows);
+                  [&](const volume::VolumeObject&, Mesh mesh) -> std::optional<PipelineResult> {
+                    return describe_mesh(std::move(mesh), options);
+                  },
+                  describe_into, fail, rows);
       return;
     }
     PipelineOptions o = options;
