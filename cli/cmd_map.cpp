@@ -1,4 +1,4 @@
-// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]`: conformal map of a closed
+// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]` (methods: kMapMethodNames): conformal map of a closed
 // genus-0 mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
 // vertices) and prints the quality report; a map that fails verification is not written and exits with kExitInvalid.
 #include <chrono>
@@ -10,8 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
+#include "cli/enum_option.hpp"
 #include "core/common/deadline.hpp"
 #include "core/io/mesh_io.hpp"
+#include "core/pipeline/describe_overrides.hpp"
+#include "core/spherical_map/map_method_names.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "wire/wire_json.hpp"
 #include "core/validation/mesh_report.hpp"
@@ -22,9 +25,8 @@ namespace {
 struct MapArgs {
   std::string input;
   std::string output;
-  std::string method = "willmore";
+  DescribeOverrides overrides;  // --method, --steps (the step cap of that method's flow); no lmax here
   std::string solver = "cholmod";
-  int steps = 0;           // 0: the method's default cap
   bool json = false;
   bool no_fallback = false;
   bool filtered = false;
@@ -77,24 +79,28 @@ CommandRunner setup_map(CLI::App& sub) {
   auto args = std::make_shared<MapArgs>();
   sub.add_option("file", args->input, "Input mesh (OBJ, PLY, OFF, STL): closed, genus 0")->required();
   sub.add_option("--out,-o", args->output, "Sphere mesh to write (format from the extension)")->required();
-  sub.add_option("--method", args->method, "willmore (default), cmcf or linear")
-      ->check(CLI::IsMember({"willmore", "cmcf", "linear"}));
-  sub.add_option("--steps", args->steps, "Flow step cap (default: 20 for willmore, 30 for cmcf)")->check(CLI::PositiveNumber);
+  const SphericalMapOptions defaults;
+  add_enum_option(sub, "--method", args->overrides.method, kMapMethodNames, defaults.method, "Spherical map method");
+  sub.add_option("--steps", args->overrides.max_flow_steps,
+                 "Step cap of the chosen method's flow (default: willmore " + std::to_string(defaults.willmore.max_steps) +
+                     ", cmcf " + std::to_string(defaults.cmcf.max_steps) +
+                     "; not for linear, a single solve; the fallback chain keeps its own caps)")
+      ->check(CLI::PositiveNumber);
   sub.add_option("--solver", args->solver, "cholmod (default) or eigen")->check(CLI::IsMember({"cholmod", "eigen"}));
   sub.add_flag("--filtered", args->filtered, "Low-pass filtered Willmore flow (noisy segmentation meshes)");
   sub.add_flag("--no-fallback", args->no_fallback, "Do not try more steps / filtered flow / cMCF / linear method on failure");
   sub.add_option("--timeout", args->timeout, "Time limit in seconds (0: none)")->check(CLI::NonNegativeNumber);
   sub.add_flag("--json", args->json, "Print the report as JSON");
   return [args]() -> int {
+    check_overrides(args->overrides, "--steps");
     const ReadResult read = read_mesh_file(args->input);
     const PreparedMesh prepared = prepare_for_mapping(read.mesh);
     require_mappable(prepared);
     SphericalMapOptions options;
-    options.method = map_method_from_name(args->method);
+    apply_overrides(args->overrides, options);
     options.solver = args->solver == "eigen" ? LinearSolverKind::EigenSimplicial : LinearSolverKind::Cholmod;
     options.fallback = !args->no_fallback;
     options.willmore.filtered = args->filtered;
-    if (args->steps > 0) options.willmore.max_steps = options.cmcf.max_steps = args->steps;
     const Deadline deadline = args->timeout > 0 ? Deadline::after(std::chrono::duration<double>(args->timeout)) : Deadline{};
     const SphericalMapResult result = compute_spherical_map(prepared.mesh, options, deadline);
     if (result.ok()) {

@@ -20,6 +20,7 @@
 #include "cli/volume_options.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
+#include "core/pipeline/volume_description.hpp"
 
 namespace wish::cli {
 namespace {
@@ -60,34 +61,43 @@ int run(const MeshLabelsOptions& o) {
     std::string unit;
     try {
       const std::string bytes = read_file_bytes(file);
-      for_each_object_surface(
+      std::string out_file;  // of the object being written
+      describe_volume(
           bytes, options,
-          [&](std::size_t i, const volume::VolumeObject& obj, volume::ObjectSurface& s) {
-            std::string out_file;
-            if (s.ok) {
-              out_file = stem + "_" + std::to_string(obj.id) + "." + o.format;
-              write_mesh_file(s.mesh, fs::path(o.out) / out_file);
+          [&](const volume::VolumeObject& obj, Mesh mesh) -> std::optional<PipelineResult> {  // the work: write it
+            out_file = stem + "_" + std::to_string(obj.id) + "." + o.format;
+            write_mesh_file(mesh, fs::path(o.out) / out_file);
+            return std::nullopt;
+          },
+          [&](std::size_t i, VolumeObjectResult& r) {
+            const volume::VolumeObject& obj = r.object;
+            const SurfaceFigures& s = r.surface;
+            if (r.ok()) {
               ++meshed;
             } else {
               ++refused;
               all_ok = false;
+              out_file.clear();
             }
             std::string repairs;
-            for (const auto& r : s.repairs) repairs += (repairs.empty() ? "" : "; ") + r;
+            for (const auto& rep : s.repairs) repairs += (repairs.empty() ? "" : "; ") + rep;
             csv << csv_text(stem) << ',' << obj.id << ',' << obj.voxel_count << ',' << num(obj.centroid(0)) << ','
                 << num(obj.centroid(1)) << ',' << num(obj.centroid(2)) << ',' << obj.bbox_min[0] << ',' << obj.bbox_min[1]
                 << ',' << obj.bbox_min[2] << ',' << obj.bbox_max[0] << ',' << obj.bbox_max[1] << ',' << obj.bbox_max[2]
-                << ',' << (obj.truncated ? "true" : "false") << ',' << s.genus << ',' << (s.ok ? "meshed" : "refused")
-                << ',' << csv_text(s.ok ? "" : s.refusal_code + ": " + s.refusal) << ',' << csv_text(out_file) << ','
-                << s.mesh.vertex_count() << ',' << s.mesh.face_count() << ',' << num(s.area) << ',' << num(s.volume)
-                << ',' << num(s.voxel_volume) << ',' << num(s.voxel_volume > 0 && s.ok ? s.volume / s.voxel_volume : 0)
-                << ',' << num(s.raw_area) << ',' << csv_text(unit) << ',' << csv_text(repairs) << ','
-                << num(s.timings.extraction) << ',' << num(s.timings.surface) << ',' << num(s.timings.smoothing) << ','
-                << num(s.timings.decimation) << '\n';
+                << ',' << (obj.truncated ? "true" : "false") << ',' << s.genus << ',' << (r.ok() ? "meshed" : "refused")
+                << ',' << csv_text(r.ok() ? "" : r.error->code() + ": " + r.error->what()) << ','
+                << csv_text(out_file) << ',' << s.vertices << ',' << s.faces << ',' << num(s.area) << ','
+                << num(s.volume) << ',' << num(s.voxel_volume) << ','
+                << num(s.voxel_volume > 0 && r.ok() ? s.volume / s.voxel_volume : 0) << ',' << num(s.raw_area) << ','
+                << csv_text(unit) << ',' << csv_text(repairs) << ',' << num(s.timings.extraction) << ','
+                << num(s.timings.surface) << ',' << num(s.timings.smoothing) << ',' << num(s.timings.decimation)
+                << '\n';
+            out_file.clear();
             if (!o.quiet)
               std::cerr << "\r" << stem << ": object " << (i + 1) << "/" << total << " (label " << obj.id << "), "
                         << meshed << " meshed, " << refused << " refused   " << std::flush;
           },
+          Deadline{},
           [&](const VolumeSummary& summary) {
             total = static_cast<std::size_t>(summary.kept);
             unit = summary.unit;

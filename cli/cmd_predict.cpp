@@ -115,12 +115,13 @@ CommandRunner setup_predict(CLI::App& sub) {
         if (detect_volume_format(bytes) != VolumeFormat::Unknown) {  // a label volume: one row per kept object
           const PipelineOptions po = options_for_recipe(model.recipe());
           volume_rows(file, bytes, volume, !o->quiet,
-                      [&](nlohmann::json& row, Mesh mesh) {
+                      [&](const volume::VolumeObject&, Mesh mesh) -> std::optional<PipelineResult> {
                         PipelineResult res = describe_mesh(std::move(mesh), po);
                         classify_described(res, model);
-                        classified(row, res);
+                        return res;
                       },
-                      [&](nlohmann::json& row, const WishError& e) { fail(row, row_name(row), e); }, rows);
+                      classified, [&](nlohmann::json& row, const WishError& e) { fail(row, row_name(row), e); },
+                      rows);
           for (auto& row : rows) results.push_back(std::move(row));
           rows.clear();
           continue;

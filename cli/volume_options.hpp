@@ -26,6 +26,7 @@ struct VolumeCliOptions {
   bool close_handles = false;
   std::int64_t max_voxels = 512ll * 512 * 512;
   std::int64_t max_objects = 100'000;
+  std::int64_t max_object_box_voxels = volume::SurfaceOptions{}.max_box_voxels;
 };
 
 inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
@@ -42,6 +43,9 @@ inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
   sub.add_flag("--close-handles", o.close_handles, "Try a morphological closing to make non-genus-0 objects genus 0");
   sub.add_option("--max-voxels", o.max_voxels, "Limit: voxels per volume")->capture_default_str();
   sub.add_option("--max-objects", o.max_objects, "Limit: objects per volume")->capture_default_str();
+  sub.add_option("--max-object-box-voxels", o.max_object_box_voxels,
+                 "Limit: padded bounding box of one object (past it: box_too_large, too_large as the service's 413)")
+      ->capture_default_str();
 }
 
 inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
@@ -58,6 +62,7 @@ inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
   v.surface.target_vertices = o.target_vertices;
   v.surface.smoothing_iterations = o.smoothing_iterations;
   v.surface.close_handles = o.close_handles;
+  v.surface.max_box_voxels = o.max_object_box_voxels;
   return v;
 }
 

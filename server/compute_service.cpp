@@ -1,8 +1,8 @@
 #include "server/compute_service.hpp"
 
-#include "core/common/error_codes.hpp"
-
+#include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "core/spherical_map/flow_step_cap.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/api_response.hpp"
 #include "server/loaded_model.hpp"
@@ -43,15 +43,18 @@ void check_descriptor_settings(const ComputeParams& params, const LoadedModel& l
                                 "=" + model_text + "); omit it to use the model's descriptor settings",
                             {{"parameter", parameter}, {"requested", requested}, {"model_value", model}, {"model", name}});
   };
-  if (params.lmax && *params.lmax != ds.sh.lmax)
-    mismatch("lmax", std::int64_t{*params.lmax}, std::int64_t{ds.sh.lmax}, std::to_string(*params.lmax),
+  const DescribeOverrides& given = params.descriptor;
+  if (given.lmax && *given.lmax != ds.sh.lmax)
+    mismatch("lmax", std::int64_t{*given.lmax}, std::int64_t{ds.sh.lmax}, std::to_string(*given.lmax),
              std::to_string(ds.sh.lmax));
-  const std::string model_method = to_string(ds.map.method);
-  if (params.method && *params.method != model_method)
-    mismatch("method", *params.method, model_method, *params.method, model_method);
-  if (params.steps && *params.steps != model_steps(ds))
-    mismatch("steps", std::int64_t{*params.steps}, std::int64_t{model_steps(ds)}, std::to_string(*params.steps),
-             std::to_string(model_steps(ds)));
+  if (given.method && *given.method != ds.map.method) {
+    const std::string requested = to_string(*given.method), model_method = to_string(ds.map.method);
+    mismatch("method", requested, model_method, requested, model_method);
+  }
+  const int model_cap = flow_step_cap(ds.map);
+  if (given.max_flow_steps && *given.max_flow_steps != model_cap)
+    mismatch("steps", std::int64_t{*given.max_flow_steps}, std::int64_t{model_cap},
+             std::to_string(*given.max_flow_steps), std::to_string(model_cap));
 }
 
 namespace {
@@ -84,21 +87,15 @@ ResultJsonOptions json_options_for(const ComputeJob& job) {
 
 // Describe: the request's descriptor settings over the defaults (and the settings block that says so).
 void apply_describe_settings(const ComputeJob& job, PipelineOptions& options, ResultJsonOptions& json_options) {
-  if (job.params.lmax) options.sh.lmax = *job.params.lmax;
-  if (job.params.method) options.map.method = map_method_from_name(*job.params.method);
-  if (job.params.steps) {
-    if (options.map.method == MapMethod::Cmcf) options.map.cmcf.max_steps = *job.params.steps;
-    else options.map.willmore.max_steps = *job.params.steps;
-  }
-  const int steps = options.map.method == MapMethod::Cmcf ? options.map.cmcf.max_steps : options.map.willmore.max_steps;
+  apply_overrides(job.params.descriptor, options);
   json_options.settings = settings_used(job.params.explicit_descriptor() ? "request" : "default", options.sh.lmax,
-                                        options.map.method, steps, options.sh);
+                                        options.map.method, flow_step_cap(options.map), options.sh);
 }
 
 void apply_model_settings(const ComputeJob& job, ResultJsonOptions& json_options) {
   const ClassifierModel& model = job.model->model;
   const auto& ds = model.recipe();
-  json_options.settings = settings_used("model", ds.sh.lmax, ds.map.method, model_steps(ds), ds.sh);
+  json_options.settings = settings_used("model", ds.sh.lmax, ds.map.method, flow_step_cap(ds.map), ds.sh);
   json_options.model_name = model.name();
   json_options.model_version = model.version();
 }
@@ -129,24 +126,13 @@ VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) 
   return v;
 }
 
-// The refusal of a volume with no object to describe (every voxel background, or every object filtered out): a
-// 422 that says which filter took them, rather than a 200 with an empty list that a batch script reads as success.
-WishError no_objects_error(const VolumeSummary& s) {
-  std::string why = s.found == 0 ? "every voxel is background (0)"
-                                 : std::to_string(s.found) + " found, dropped: " +
-                                       std::to_string(s.dropped_not_selected) + " not in labels, " +
-                                       std::to_string(s.dropped_small) + " under min_voxels, " +
-                                       std::to_string(s.dropped_truncated) + " truncated (drop_truncated)";
-  return WishError(ErrorCategory::Unmappable, "no_objects", "the label volume has no object to describe: " + why,
-                   {{"objects_found", s.found}, {"not_selected", s.dropped_not_selected},
-                    {"small", s.dropped_small}, {"truncated", s.dropped_truncated}});
-}
-
-// A label volume: every kept object is meshed (core/pipeline/volume_pipeline.hpp) and described or classified like
-// an uploaded mesh; an object that cannot be is an error entry with its own status, the others are unaffected.
-// The volume's own status follows its objects' as a batch's follows its parts' (batch_status): 200 all described,
-// their common status when all were refused alike, 207 when they differ; `out.error` is the first refusal.
-// The time limit covers the whole volume: past it, or when cancelled, the part fails (504 / 503) as a mesh would.
+// A label volume: every kept object is meshed and described or classified like an uploaded mesh
+// (core/pipeline/volume_description.hpp, the one owner of an object: a refused surface carries its code's
+// category, so box_too_large is a 413 here as in the CLI); an object that cannot be is an error entry with its own
+// status, the others are unaffected. The volume's own status follows its objects' as a batch's follows its parts'
+// (batch_status): 200 all described, their common status when all were refused alike, 207 when they differ;
+// `out.error` is the first refusal. The time limit covers the whole volume: past it, or when cancelled, the part
+// fails (504 / 503) as a mesh would.
 void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcome& out) {
   PipelineOptions options = base_options(job, config);
   ResultJsonOptions json_options = json_options_for(job);
@@ -158,69 +144,54 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
   }
   nlohmann::json objects = nlohmann::json::array();
   std::int64_t kept = 0, described = 0, refused = 0, vertices = 0, faces = 0;
+  std::string unit;
   std::vector<int> statuses;  // of the objects, in order
-  const auto add = [&](nlohmann::json&& entry, int status) {
+  const auto work = [&](const volume::VolumeObject&, Mesh mesh) -> std::optional<PipelineResult> {
+    PipelineResult result = describe_mesh(std::move(mesh), options, job.deadline);
+    if (job.op == Operation::Classify) {
+      const auto t = std::chrono::steady_clock::now();
+      classify_described(result, job.model->model);
+      result.timings.classify = seconds_between(t, std::chrono::steady_clock::now());
+      result.timings.total += result.timings.classify;
+    }
+    return result;
+  };
+  const auto on_object = [&](std::size_t, VolumeObjectResult& object) {
+    const volume::SurfaceTimings& st = object.surface.timings;
+    out.stages["surface"] += st.extraction + st.surface + st.smoothing + st.decimation;
+    nlohmann::json entry{{"label_id", object.object.id}, {"object", volume_object_json(object, unit)}};
+    int status = 200;
+    if (object.error) {
+      const ApiError error = to_api_error(*object.error);
+      entry["error"] = error_object(error);
+      if (refused++ == 0) out.error = error;
+      status = error.status;
+    } else {
+      const PipelineResult& result = *object.result;
+      record_stages(job, result.timings, out);
+      vertices += result.prepared.input_report.vertices;
+      faces += result.prepared.input_report.faces;
+      entry["result"] = result_json(result, json_options);
+      entry["result"]["request_id"] = job.request_id;
+      ++described;
+    }
     entry["status"] = status;
     statuses.push_back(status);
     objects.push_back(std::move(entry));
   };
-  const auto refuse = [&](nlohmann::json&& entry, const ApiError& error) {
-    entry["error"] = error_object(error);
-    if (refused++ == 0) out.error = error;
-    add(std::move(entry), error.status);
-  };
-  const VolumeSummary summary = for_each_object_surface(
-      *job.part.bytes, volume_options(job, config),
-      [&](std::size_t index, const volume::VolumeObject& object, volume::ObjectSurface& surface) {
-        if (job.deadline.expired()) {
-          try {
-            job.deadline.check("label volume objects");
-          } catch (const WishError& e) {
-            if (e.code() == "cancelled") throw;  // 503 "cancelled"; a timeout is reported with the count below
-          }
-          throw TimeoutError("time limit exceeded after " + std::to_string(index) + " of " + std::to_string(kept) +
-                                 " objects of the label volume",
-                             {{"stage", std::string("label volume objects")},
-                              {"objects_done", static_cast<std::int64_t>(index)}, {"objects", kept},
-                              {"limit_seconds", config.volume_time_limit_seconds}});
-        }
-        nlohmann::json entry{{"label_id", object.id}, {"object", volume_object_json(object, surface)}};
-        out.stages["surface"] += surface.timings.extraction + surface.timings.surface + surface.timings.smoothing +
-                                 surface.timings.decimation;
-        if (!surface.ok) {
-          // The category (so the status) the code table gives the refusal: 413 for box_too_large, 422 for a
-          // surface that is not genus 0, ...
-          const ErrorCodeInfo* info = find_error_code(surface.refusal_code);
-          const ErrorCategory category =
-              info && info->category ? *info->category : ErrorCategory::Unmappable;
-          const ApiError error = to_api_error(WishError(category, surface.refusal_code,
-                                                        surface.refusal, {{"label_id", std::int64_t{object.id}},
-                                                                          {"genus", std::int64_t{surface.genus}}}));
-          refuse(std::move(entry), error);
-          return;
-        }
-        try {
-          PipelineResult result = describe_mesh(std::move(surface.mesh), options, job.deadline);
-          if (job.op == Operation::Classify) {
-            const auto t = std::chrono::steady_clock::now();
-            classify_described(result, job.model->model);
-            result.timings.classify = seconds_between(t, std::chrono::steady_clock::now());
-            result.timings.total += result.timings.classify;
-          }
-          record_stages(job, result.timings, out);
-          vertices += result.prepared.input_report.vertices;
-          faces += result.prepared.input_report.faces;
-          entry["result"] = result_json(result, json_options);
-          entry["result"]["request_id"] = job.request_id;
-          ++described;
-          add(std::move(entry), 200);
-        } catch (const WishError& e) {
-          // The request's own limit or cancellation ends the whole volume; anything else is this object's refusal.
-          if (e.category() == ErrorCategory::Timeout || e.code() == "cancelled") throw;
-          refuse(std::move(entry), to_api_error(e));
-        }
-      },
-      [&](const VolumeSummary& s) { kept = s.kept; });
+  VolumeSummary summary;
+  try {
+    summary = describe_volume(*job.part.bytes, volume_options(job, config), work, on_object, job.deadline,
+                              [&](const VolumeSummary& s) {
+                                kept = s.kept;
+                                unit = s.unit;
+                              });
+  } catch (const WishError& e) {
+    if (e.category() != ErrorCategory::Timeout) throw;
+    ErrorDetails details = e.details();  // the service's limit beside the count of objects done
+    details["limit_seconds"] = config.volume_time_limit_seconds;
+    throw TimeoutError(e.what(), std::move(details));
+  }
   if (summary.kept == 0) throw no_objects_error(summary);
   out.status = batch_status(statuses);
   out.vertices = vertices;

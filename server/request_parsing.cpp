@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/common/errors.hpp"
+#include "core/spherical_map/map_method_names.hpp"
 
 namespace wish::server {
 
@@ -131,20 +132,20 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
         throw LimitExceededError("lmax=" + value + " exceeds the server's limit of " + std::to_string(config.max_lmax),
                                  {{"limit", std::string("lmax")}, {"value", std::int64_t{lmax}},
                                   {"allowed", std::int64_t{config.max_lmax}}});
-      out.lmax = lmax;
+      out.descriptor.lmax = lmax;
     } else if (name == "method") {
-      const std::string m = lower(value);
-      // The methods of core/spherical_map (map_method_from_name) and of proto/openapi.json's `method` parameter.
-      if (m != "willmore" && m != "cmcf" && m != "linear")
-        invalid_parameter(name, "method must be willmore, cmcf or linear, not '" + value + "'", value);
-      out.method = m;
+      // The one list of methods (core kMapMethodNames; proto/openapi.json's MapMethod schema is generated from it).
+      const auto method = kMapMethodNames.find(lower(value));
+      if (!method)
+        invalid_parameter(name, "method must be " + kMapMethodNames.expected() + ", not '" + value + "'", value);
+      out.descriptor.method = *method;
     } else if (name == "steps") {
       const int steps = parse_int(name, value, 1, 1000000);
       if (steps > config.max_steps)
         throw LimitExceededError("steps=" + value + " exceeds the server's limit of " + std::to_string(config.max_steps),
                                  {{"limit", std::string("steps")}, {"value", std::int64_t{steps}},
                                   {"allowed", std::int64_t{config.max_steps}}});
-      out.steps = steps;
+      out.descriptor.max_flow_steps = steps;
     } else if (name == "include") {
       out.include_coefficients = out.include_invariants = out.include_quality = out.include_reconstruction = false;
       out.include_mesh = out.include_sphere = out.include_distortion = false;
@@ -176,10 +177,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.format = f;
     }
   }
-  // The linear map is one solve, no flow: a step cap for it would be silently ignored.
-  if (out.method == "linear" && out.steps)
-    throw InvalidInputError("invalid_parameter", "parameter steps does not apply to method linear (a single solve)",
-                            {{"parameter", std::string("steps")}, {"method", std::string("linear")}});
+  check_overrides(out.descriptor, "steps");  // a step cap with the linear map (one solve) would be ignored
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/pipeline/describe_overrides.hpp"
 #include "server/config.hpp"
 
 namespace wish::server {
@@ -32,9 +33,9 @@ struct VolumeParams {
 
 struct ComputeParams {
   std::string model;                  // classify: "" -> the default model
-  std::optional<int> lmax;            // explicit descriptor settings (absent: default or the model's)
-  std::optional<std::string> method;  // "willmore" | "cmcf" | "linear"
-  std::optional<int> steps;
+  // ?method= (a kMapMethodNames name), ?lmax=, ?steps= (the step cap of that method's flow), parsed once here;
+  // absent: the defaults (describe) or the model's (classify).
+  DescribeOverrides descriptor;
   bool include_coefficients = false;
   bool include_invariants = true;
   bool include_quality = true;
@@ -43,7 +44,7 @@ struct ComputeParams {
   int reconstruction_level = 3;
   std::string format;                 // "obj" | "ply" | "off" | "stl" | "" (hint only; content detection wins)
   VolumeParams volume;
-  bool explicit_descriptor() const { return lmax || method || steps; }
+  bool explicit_descriptor() const { return descriptor.any(); }
 };
 
 using ParamMap = std::multimap<std::string, std::string>;

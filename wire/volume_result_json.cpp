@@ -23,7 +23,9 @@ nlohmann::json volume_summary_json(const VolumeSummary& s) {
           {"timings", {{"read", s.read_seconds}, {"objects", s.objects_seconds}}}};
 }
 
-nlohmann::json volume_object_json(const volume::VolumeObject& o, const volume::ObjectSurface& s) {
+nlohmann::json volume_object_json(const VolumeObjectResult& r, const std::string& unit) {
+  const volume::VolumeObject& o = r.object;
+  const SurfaceFigures& s = r.surface;
   return {{"voxel_count", o.voxel_count},
           {"centroid", vec3(o.centroid)},
           {"bbox_min", {o.bbox_min[0], o.bbox_min[1], o.bbox_min[2]}},
@@ -31,8 +33,9 @@ nlohmann::json volume_object_json(const volume::VolumeObject& o, const volume::O
           {"truncated", o.truncated},
           {"genus", s.genus},
           {"repairs", s.repairs},
-          {"surface", {{"vertices", s.mesh.vertex_count()},
-                       {"faces", s.mesh.face_count()},
+          {"unit", unit},
+          {"surface", {{"vertices", s.vertices},
+                       {"faces", s.faces},
                        {"vertices_before_decimation", s.vertices_before_decimation},
                        {"area", json_number(s.area)},
                        {"volume", json_number(s.volume)},

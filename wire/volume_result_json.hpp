@@ -6,12 +6,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/pipeline/volume_pipeline.hpp"
+#include "core/pipeline/volume_description.hpp"
 
 namespace wish::wire {
 
 nlohmann::json volume_summary_json(const VolumeSummary& summary);
-// The "object" block of an entry: the voxel object and the surface made of it.
-nlohmann::json volume_object_json(const volume::VolumeObject& object, const volume::ObjectSurface& surface);
+// The "object" block of an object (core/pipeline/volume_description.hpp), the one encoder of it: the service's
+// VolumeObjectEntry and the CLI's per-object rows (`wish describe|predict --json`) carry the same block. `unit` is
+// the volume's, the unit of the centroid, area and volumes.
+nlohmann::json volume_object_json(const VolumeObjectResult& object, const std::string& unit);
 
 }  // namespace wish::wire

@@ -6,12 +6,10 @@
 
 #include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
+#include "core/classify/recipe_names.hpp"
+#include "core/spherical_map/flow_step_cap.hpp"
 
 namespace wish {
-
-constexpr EnumNames<OffRecipePolicy, 2> kOffRecipePolicyNames{{{
-    {OffRecipePolicy::Refuse, "refuse"},
-    {OffRecipePolicy::AcceptFlagged, "accept_flagged"}}}};
 
 const char* to_string(OffRecipePolicy policy) { return kOffRecipePolicyNames.name(policy); }
 
@@ -77,7 +75,7 @@ int recipe_version_of(const DescriptorRecipe& recipe) {
 }
 
 int model_steps(const DescriptorRecipe& recipe) {
-  return recipe.map.method == MapMethod::Cmcf ? recipe.map.cmcf.max_steps : recipe.map.willmore.max_steps;
+  return flow_step_cap(recipe.map);
 }
 
 }  // namespace wish

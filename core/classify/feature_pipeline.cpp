@@ -7,20 +7,11 @@
 #include "core/classify/global_descriptors.hpp"
 #include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
+#include "core/classify/recipe_names.hpp"
 
 namespace wish {
 
-constexpr EnumNames<FeatureFamily, 3> kFeatureFamilyNames{{{
-    {FeatureFamily::Invariants, "invariants"},
-    {FeatureFamily::Global, "global"},
-    {FeatureFamily::Combined, "combined"}}}};
-
 const char* to_string(FeatureFamily family) { return kFeatureFamilyNames.name(family); }
-
-constexpr EnumNames<ScaleNormalization, 3> kScaleNormalizationNames{{{
-    {ScaleNormalization::None, "none"},
-    {ScaleNormalization::ByFirstInvariant, "xi1"},
-    {ScaleNormalization::ByArea, "area"}}}};
 
 const char* to_string(ScaleNormalization scale) { return kScaleNormalizationNames.name(scale); }
 

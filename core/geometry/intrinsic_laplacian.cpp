@@ -15,13 +15,9 @@
 
 #include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
+#include "core/geometry/laplacian_kind_names.hpp"
 
 namespace wish::geometry {
-
-constexpr EnumNames<LaplacianKind, 3> kLaplacianKindNames{{{
-    {LaplacianKind::Extrinsic, "extrinsic"},
-    {LaplacianKind::Mollified, "mollified"},
-    {LaplacianKind::IntrinsicDelaunay, "intrinsic_delaunay"}}}};
 
 const char* to_string(LaplacianKind kind) { return kLaplacianKindNames.name(kind); }
 

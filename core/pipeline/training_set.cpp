@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/common/errors.hpp"
+#include "core/pipeline/volume_description.hpp"
 
 namespace wish {
 
@@ -60,23 +61,30 @@ ItemDescription describe_volume_item(const DatasetItem& item, const std::string&
   ItemDescription d;
   std::map<std::uint32_t, bool> seen;
   const auto start = std::chrono::steady_clock::now();
-  const VolumeSummary summary = for_each_object_surface(
-      bytes, vo, [&](std::size_t, const volume::VolumeObject& object, volume::ObjectSurface& surface) {
-        const std::string id = item.path + "#" + std::to_string(object.id);
+  // Only the manifest's ids are asked for (the id filter keeps only these; an object it would not name is skipped).
+  const auto asked = [&](std::uint32_t id) { return item.object_labels.empty() || item.object_labels.count(id) > 0; };
+  const VolumeSummary summary = describe_volume(
+      bytes, vo,
+      [&](const volume::VolumeObject& object, Mesh mesh) -> std::optional<PipelineResult> {
+        if (!asked(object.id)) return std::nullopt;
+        return describe_mesh(std::move(mesh), po);
+      },
+      [&](std::size_t, VolumeObjectResult& object) {
+        if (!asked(object.object.id)) return;
+        const std::string id = item.path + "#" + std::to_string(object.object.id);
         std::string label = item.label;
         if (!item.object_labels.empty()) {
-          const auto it = item.object_labels.find(object.id);
-          if (it == item.object_labels.end()) return;  // not asked for (the id filter keeps only these)
-          label = it->second;
-          seen[object.id] = true;
+          label = item.object_labels.at(object.object.id);
+          seen[object.object.id] = true;
         }
-        if (!surface.ok) {
-          d.losses.push_back({id, label, surface.refusal_code, surface.refusal});
+        // A refused surface or a failed description: a loss with the object's error (code and message).
+        if (!object.ok()) {
+          d.losses.push_back({id, label, object.error->code(), object.error->what()});
           return;
         }
         try {
-          d.samples.push_back(sample_of(describe_mesh(std::move(surface.mesh), po), recipe, id, label));
-        } catch (const WishError& e) {
+          d.samples.push_back(sample_of(*object.result, recipe, id, label));
+        } catch (const WishError& e) {  // off_recipe under the refuse policy
           d.losses.push_back({id, label, e.code(), e.what()});
         }
       });

@@ -18,17 +18,13 @@
 #include "core/spherical_map/chart_untangle.hpp"
 #include "core/spherical_map/cmcf.hpp"
 #include "core/spherical_map/linear_map.hpp"
+#include "core/spherical_map/map_method_names.hpp"
 #include "core/spherical_map/map_verification.hpp"
 #include "core/spherical_map/mobius.hpp"
 #include "core/spherical_map/untangle.hpp"
 #include "core/spherical_map/willmore_flow.hpp"
 
 namespace wish {
-
-constexpr EnumNames<MapMethod, 3> kMapMethodNames{{{
-    {MapMethod::Willmore, "willmore"},
-    {MapMethod::Cmcf, "cmcf"},
-    {MapMethod::Linear, "linear"}}}};
 
 const char* to_string(MapMethod method) { return kMapMethodNames.name(method); }
 

@@ -12,6 +12,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import unittest
 
@@ -158,6 +159,65 @@ class VolumeInputs(unittest.TestCase):
         self.assertEqual(rows[0]["file"], mesh)
         self.assertNotIn("label_id", rows[0])
         self.assertEqual([r.get("label_id") for r in rows[1:]], [3, 4, 7])
+
+    def test_an_object_over_the_box_limit_is_too_large_as_in_the_service(self):
+        # One owner of a volume object (core/pipeline/volume_description.hpp): a refused surface takes the category
+        # its code has in the code table, in every front end. Before, the CLI made every refusal `unmappable` while
+        # the service answered box_too_large with 413. The same volume and limit through the CLI and the service:
+        # the same code per object, the CLI's category too_large, the service's status 413 (its category's status).
+        p = run("describe", self.mixed, "--json", "--lmax", "4", "--quiet", "--max-object-box-voxels", "100",
+                check=False)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        rows = {r["label_id"]: r for r in json.loads(p.stdout)}
+        self.assertEqual(sorted(rows), [3, 4, 7])
+        for r in rows.values():
+            self.assertEqual(r["error"]["code"], "box_too_large")
+            self.assertEqual(r["error"]["category"], "too_large")
+            self.assertEqual(r["error"]["details"]["label_id"], r["label_id"])
+            self.assertIn("voxel_count", r["object"])  # the object block is reported with its refusal
+        # A shape refusal keeps its own category: without the limit the torus is unmappable (the service's 422).
+        p = run("describe", self.mixed, "--json", "--lmax", "4", "--quiet", "--label-ids", "4", check=False)
+        torus = json.loads(p.stdout)[0]
+        self.assertEqual((torus["error"]["code"], torus["error"]["category"]), ("genus_nonzero", "unmappable"))
+
+        sys.path.insert(0, os.path.join(SOURCE_DIR, "tests", "server"))
+        import wish_server_harness as h  # noqa: E402 (needs jsonschema, as every service test)
+        with open(self.mixed, "rb") as f:
+            data = f.read()
+        with h.Server(args=["--max-object-box-voxels", "100"]) as s:
+            r = s.post_mesh("/v1/describe?lmax=4", data)
+            body = r.json()
+        self.assertEqual(r.status, 413, r.body[:400])
+        h.validate("VolumeResult", body)
+        served = {o["label_id"]: o for o in body["objects"]}
+        self.assertEqual(sorted(served), sorted(rows))
+        for lid, o in served.items():
+            self.assertEqual((o["status"], o["error"]["code"]), (413, rows[lid]["error"]["code"]))
+            # One encoder of the object block: the CLI's row carries the service's block, key for key.
+            self.assertEqual(set(o["object"]), set(rows[lid]["object"]))
+            self.assertEqual(o["object"]["bbox_min"], rows[lid]["object"]["bbox_min"])
+
+    def test_mesh_labels_reports_each_object_as_describe_does(self):
+        # mesh-labels renders the same object (core/pipeline/volume_description.hpp): meshed objects are written,
+        # a refused one is a row with its code, and the box limit refuses with box_too_large as describe does.
+        out = os.path.join(self.dir, "meshes")
+        p = run("mesh-labels", self.mixed, "--out", out, "--quiet", check=False)
+        self.assertEqual(p.returncode, 1, p.stderr)  # the torus is refused
+        with open(os.path.join(out, "objects.csv")) as f:
+            rows = {int(r["label_id"]): r for r in csv.DictReader(f)}
+        self.assertEqual(sorted(rows), [3, 4, 7])
+        for lid in (3, 7):
+            self.assertEqual(rows[lid]["status"], "meshed")
+            self.assertTrue(os.path.exists(os.path.join(out, rows[lid]["file"])))
+            self.assertGreater(int(rows[lid]["vertices"]), 0)
+            self.assertEqual(rows[lid]["unit"], "mm")  # the NIfTI default unit: the object's figures are in it
+        self.assertEqual((rows[4]["status"], rows[4]["file"]), ("refused", ""))
+        self.assertTrue(rows[4]["reason"].startswith("genus_nonzero: "), rows[4]["reason"])
+        out = os.path.join(self.dir, "meshes-box")
+        run("mesh-labels", self.mixed, "--out", out, "--quiet", "--max-object-box-voxels", "100", check=False)
+        with open(os.path.join(out, "objects.csv")) as f:
+            reasons = [r["reason"].split(":")[0] for r in csv.DictReader(f)]
+        self.assertEqual(reasons, ["box_too_large"] * 3)
 
     def test_unreadable_volume_is_one_error_row(self):
         bad = os.path.join(self.dir, "truncated.nii")

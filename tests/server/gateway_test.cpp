@@ -161,7 +161,7 @@ TEST(Gateway, RawBodyIsOneJobAndTheResultCarriesTheRequestId) {
   EXPECT_EQ(body_of(r)["request_id"], "req-1");
   EXPECT_EQ(body_of(r)["bytes"], 9);
   ASSERT_EQ(f.compute.count(), 1u);
-  EXPECT_EQ(f.compute.jobs[0].params.lmax, 6);
+  EXPECT_EQ(f.compute.jobs[0].params.descriptor.lmax, 6);
   EXPECT_EQ(f.compute.jobs[0].model, nullptr);  // describe takes no model
   EXPECT_EQ(r.parts, 1);
   EXPECT_EQ(r.vertices, 10);
@@ -321,7 +321,7 @@ TEST(Gateway, BatchAnswersOneEntryPerPartInOrder) {
   EXPECT_EQ(r.faces, 392);
   // The form field "lmax" is a parameter, given to every job.
   ASSERT_EQ(f.compute.count(), 3u);
-  for (const auto& job : f.compute.jobs) EXPECT_EQ(job.params.lmax, 5);
+  for (const auto& job : f.compute.jobs) EXPECT_EQ(job.params.descriptor.lmax, 5);
 }
 
 // A request that reaches compute while draining was sent before the listener closed: it is computed. Only past

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/common/errors.hpp"
+#include "core/spherical_map/map_method_names.hpp"
 
 namespace wish::server {
 namespace {
@@ -51,9 +52,9 @@ TEST(ParseComputeParams, TypedValuesAreTrimmedAndLowered) {
       {{"lmax", " 12 "}, {"method", "CMCF"}, {"steps", "30"}, {"model", "m1"}, {"include", "Coefficients, mesh"},
        {"format", "PLY"}},
       config());
-  EXPECT_EQ(p.lmax, 12);
-  EXPECT_EQ(p.method, "cmcf");
-  EXPECT_EQ(p.steps, 30);
+  EXPECT_EQ(p.descriptor.lmax, 12);
+  EXPECT_EQ(p.descriptor.method, MapMethod::Cmcf);  // typed once, here
+  EXPECT_EQ(p.descriptor.max_flow_steps, 30);
   EXPECT_EQ(p.model, "m1");
   EXPECT_TRUE(p.include_coefficients);
   EXPECT_TRUE(p.include_mesh);
@@ -94,7 +95,7 @@ TEST(ParseComputeParams, RefusalsNameTheParameter) {
 
 TEST(ParseComputeParams, LimitsAreSizeProblems) {
   const ServerConfig c = config();
-  EXPECT_EQ(parse_compute_params(Operation::Describe, {{"lmax", "20"}}, c).lmax, 20);  // the limit itself is allowed
+  EXPECT_EQ(parse_compute_params(Operation::Describe, {{"lmax", "20"}}, c).descriptor.lmax, 20);  // the limit itself is allowed
   auto e = thrown([&] { parse_compute_params(Operation::Describe, {{"lmax", "21"}}, c); });
   EXPECT_EQ(e.category(), ErrorCategory::TooLarge);
   EXPECT_EQ(detail(e, "limit"), "lmax");
@@ -103,9 +104,14 @@ TEST(ParseComputeParams, LimitsAreSizeProblems) {
   EXPECT_EQ(detail(e, "limit"), "steps");
 }
 
-TEST(ParseComputeParams, EveryMapMethodOfTheContract) {
-  for (const char* m : {"willmore", "cmcf", "linear"})
-    EXPECT_EQ(parse_compute_params(Operation::Describe, {{"method", m}}, config()).method, m);
+TEST(ParseComputeParams, EveryMapMethodOfTheCoreTable) {
+  // Every name of the one table parses to its method: a method added to kMapMethodNames is a parameter value.
+  for (const auto& [method, name] : kMapMethodNames.entries)
+    EXPECT_EQ(parse_compute_params(Operation::Describe, {{"method", name}}, config()).descriptor.method, method);
+  // The refusal lists the table's names.
+  const auto unknown = thrown([] { parse_compute_params(Operation::Describe, {{"method", "spectral"}}, config()); });
+  EXPECT_NE(std::string(unknown.what()).find(kMapMethodNames.expected()), std::string::npos) << unknown.what();
+  EXPECT_EQ(detail(unknown, "parameter"), "method");
   // A step cap for the one-solve linear map would be silently ignored: refused.
   const auto e = thrown([] { parse_compute_params(Operation::Describe, {{"method", "linear"}, {"steps", "5"}}, config()); });
   EXPECT_EQ(detail(e, "parameter"), "steps");

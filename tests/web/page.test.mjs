@@ -265,6 +265,12 @@ test('describe with a chosen Lmax and method', { skip: missing || false, timeout
   await page.selectOption('#operation', 'describe');
   assert.ok(await page.isVisible('#lmax-input'));
   await page.fill('#lmax-input', '8');
+  // The choices are the served contract's MapMethod schema (generated from core's table), after "default".
+  const contract = JSON.parse(readFileSync(join(source, 'proto', 'openapi.json'), 'utf8'));
+  const methods = contract.components.schemas.MapMethod.enum;
+  await page.waitForFunction((n) => document.querySelectorAll('#method-select option').length === n + 1,
+                             methods.length, { timeout: 30000 });
+  assert.deepEqual(await page.$$eval('#method-select option', (os) => os.map((o) => o.value)), ['', ...methods]);
   await page.selectOption('#method-select', 'cmcf');
   await page.setInputFiles('#file-input', [join(meshes, 'ellipsoid.off')]);
   await page.waitForSelector('#batch-table td[data-status="done"]', { timeout: 60000 });

@@ -26,6 +26,26 @@ setTokenPrompt((retry) => new Promise((resolve) => {
   dialog.showModal();
 }));
 
+// ------------------------------------------------------------------ map methods
+// The method choices are the contract's MapMethod schema (generated from core's name table), so a method added to
+// core appears here without an edit; the page's own list stays when the contract cannot be read.
+async function loadMapMethods() {
+  let methods;
+  try {
+    methods = (await getJson('/openapi.json')).components.schemas.MapMethod.enum;
+  } catch {
+    return;
+  }
+  if (!Array.isArray(methods) || methods.length === 0) return;
+  const select = $('#method-select');
+  for (const o of [...select.options]) if (o.value) o.remove();
+  for (const m of methods) {
+    const o = document.createElement('option');
+    o.value = m; o.textContent = m;
+    select.append(o);
+  }
+}
+
 // ------------------------------------------------------------------ models
 async function loadModels() {
   try {
@@ -493,5 +513,6 @@ function wire() {
 }
 
 wire();
+loadMapMethods();
 loadModels();
 window.wishPage = { state };  // for inspection from the browser console (and the browser tests)
