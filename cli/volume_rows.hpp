@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/input_decision_text.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 
@@ -49,11 +50,13 @@ inline void volume_rows(const std::string& file, const std::string& bytes, const
                         const VolumeObjectWork& work, const VolumeRowFailure& fail, std::vector<nlohmann::json>& rows) {
   std::size_t total = 0, done = 0, failed = 0;
   std::string unit;
+  nlohmann::json input;  // the object-finding decision, on every row of the volume
   try {
     for_each_object_surface(
         bytes, options,
         [&](std::size_t i, const volume::VolumeObject& obj, volume::ObjectSurface& s) {
-          nlohmann::json row = {{"file", file}, {"label_id", obj.id}, {"object", volume_object_json(obj, s, unit)}};
+          nlohmann::json row = {{"file", file}, {"label_id", obj.id}, {"object", volume_object_json(obj, s, unit)},
+                                {"input", input}};
           try {
             if (!s.ok) throw WishError(ErrorCategory::Unmappable, s.refusal_code, s.refusal, {{"label_id", static_cast<std::int64_t>(obj.id)}});
             work(row, std::move(s.mesh));
@@ -70,12 +73,14 @@ inline void volume_rows(const std::string& file, const std::string& bytes, const
         [&](const VolumeSummary& summary) {
           total = static_cast<std::size_t>(summary.kept);
           unit = summary.unit;
+          input = input_decision_json(summary.input);
           if (progress)
             std::cerr << file << ": " << summary.dims[0] << "x" << summary.dims[1] << "x" << summary.dims[2] << " "
                       << summary.datatype << ", " << volume::to_string(summary.mode) << ", " << summary.found
                       << " objects found, " << summary.kept << " kept (" << summary.dropped_small << " small, "
                       << summary.dropped_truncated << " truncated, " << summary.dropped_not_selected
                       << " not selected dropped)\n";
+          print_input_decision(std::cerr, file, summary.input, !progress);
         });
     if (progress && total > 0) std::cerr << "\n";
   } catch (const WishError& e) {
