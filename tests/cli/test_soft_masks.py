@@ -83,6 +83,11 @@ def ellipsoid(k):
     return soft_ellipsoid((15.4, 15.2 + 0.2 * k, 15.7), tuple(axes))
 
 
+def read_text(path):
+    with open(path) as f:
+        return f.read()
+
+
 def run(*args, check=True):
     p = subprocess.run([WISH_BIN, *args], capture_output=True, text=True, env=ENV, timeout=600)
     if check and p.returncode != 0:
@@ -112,7 +117,7 @@ class SoftMasks(unittest.TestCase):
         for name in ("sphere0.nii", "sphere1.tif"):
             out = os.path.join(self.dir, "mesh-" + name)
             p = run("mesh-labels", os.path.join(self.data, "sphere", name), "--out", out)
-            rows = list(csv.DictReader(open(os.path.join(out, "objects.csv"))))
+            rows = list(csv.DictReader(io.StringIO(read_text(os.path.join(out, "objects.csv")))))
             self.assertEqual(len(rows), 1, p.stderr)
             self.assertEqual((rows[0]["input_kind"], rows[0]["threshold"], rows[0]["status"]), ("soft_mask", "127.5", "meshed"))
             self.assertIn("input soft_mask, threshold 127.5: 255 is the largest and most frequent", p.stderr)
@@ -122,7 +127,7 @@ class SoftMasks(unittest.TestCase):
         out = os.path.join(self.dir, "as-labels")
         p = run("mesh-labels", os.path.join(self.data, "sphere", "sphere0.nii"), "--out", out, "--objects", "labels",
                 check=False)
-        rows = list(csv.DictReader(open(os.path.join(out, "objects.csv"))))
+        rows = list(csv.DictReader(io.StringIO(read_text(os.path.join(out, "objects.csv")))))
         self.assertGreater(len(rows), 15)
         self.assertIn("warning: the values look like a soft_mask", p.stderr)
         self.assertIn("components --threshold T", p.stderr)
@@ -143,11 +148,11 @@ class SoftMasks(unittest.TestCase):
         # No --objects, --threshold or --min-voxels; the other flags only make the grid search small.
         run("train", self.data, "--out", model, "--report", report, "--save-descriptors", desc, "--jobs", "1",
             "--nested-repeats", "0", "--grid-splits", "2", "--no-compare", "--quiet")
-        rows = list(csv.DictReader(io.StringIO(open(desc).read())))
+        rows = list(csv.DictReader(io.StringIO(read_text(desc))))
         self.assertEqual(len(rows), 12)  # one sample per mask, not one per grey level
         self.assertTrue(all(r["file"].endswith("#1") for r in rows), [r["file"] for r in rows])
         self.assertEqual(sorted({r["label"] for r in rows}), ["ellipsoid", "sphere"])
-        rep = json.loads(open(report).read())
+        rep = json.loads(read_text(report))
         self.assertEqual(rep["skipped"], [])
         # Predict on a fresh mask of each class.
         for cls_name, make in (("sphere", sphere), ("ellipsoid", ellipsoid)):
