@@ -88,21 +88,23 @@ std::vector<std::uint8_t> near_value(const LabelImage& image, std::uint32_t valu
   const std::int64_t stride[3] = {1, n[0], n[0] * n[1]};
   std::vector<std::uint8_t> line;
   for (int axis = 0; axis < 3; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // the other two axes enumerate the lines
     const std::int64_t len = n[axis], st = stride[axis];
     line.resize(static_cast<std::size_t>(len));
-    for (std::int64_t start = 0; start < static_cast<std::int64_t>(near.size()); ++start) {
-      if ((start / st) % len != 0) continue;  // one line per position with coordinate 0 along `axis`
-      std::int64_t last_one = -1'000'000;
-      for (std::int64_t k = 0; k < len; ++k) {  // forward: a set voxel at most r behind
-        if (near[static_cast<std::size_t>(start + k * st)]) last_one = k;
-        line[static_cast<std::size_t>(k)] = k - last_one <= r;
+    for (std::int64_t ib = 0; ib < n[b]; ++ib)
+      for (std::int64_t ia = 0; ia < n[a]; ++ia) {
+        const std::int64_t start = ia * stride[a] + ib * stride[b];
+        std::int64_t last_one = -1'000'000;
+        for (std::int64_t k = 0; k < len; ++k) {  // forward: a set voxel at most r behind
+          if (near[static_cast<std::size_t>(start + k * st)]) last_one = k;
+          line[static_cast<std::size_t>(k)] = k - last_one <= r;
+        }
+        std::int64_t next_one = 1'000'000'000;
+        for (std::int64_t k = len - 1; k >= 0; --k) {  // backward: at most r ahead
+          if (near[static_cast<std::size_t>(start + k * st)]) next_one = k;
+          near[static_cast<std::size_t>(start + k * st)] = line[static_cast<std::size_t>(k)] || next_one - k <= r;
+        }
       }
-      std::int64_t next_one = 1'000'000'000;
-      for (std::int64_t k = len - 1; k >= 0; --k) {  // backward: at most r ahead
-        if (near[static_cast<std::size_t>(start + k * st)]) next_one = k;
-        near[static_cast<std::size_t>(start + k * st)] = line[static_cast<std::size_t>(k)] || next_one - k <= r;
-      }
-    }
   }
   return near;
 }
@@ -221,14 +223,16 @@ InputDecision decide_input(const LabelImage& image, ObjectMode mode, std::option
               " voxels): a mask";
     } else {
       GreyStats g;
-      const bool greys_measured = !s.capped && s.counts.size() >= 3;
+      const bool type_max = s.max_value == 255 || s.max_value == 65535;
+      // Only a maximum that is the most frequent value (soft mask) or the type's (probability map) can qualify:
+      // instance labels skip the measurement.
+      const bool greys_measured = !s.capped && s.counts.size() >= 3 && (s.top_value == s.max_value || type_max);
       const bool max_dominates = greys_measured && s.top_value == s.max_value;
       if (greys_measured) g = grey_stats(image, s.max_value);
       const double greys = static_cast<double>(g.voxels);
       const double shell = greys > 0 ? static_cast<double>(g.in_shell) / greys : 0;
       const double plateau = greys > 0 ? static_cast<double>(g.in_plateau) / greys : 1;
       const double zero_and_max = static_cast<double>(s.zeros + s.at_max) / static_cast<double>(s.voxels);
-      const bool type_max = s.max_value == 255 || s.max_value == 65535;
       const std::string figures =
           value_text(s.max_value) + " is the largest" + (max_dominates ? " and most frequent" : "") +
           " non-zero value (" + value_text(static_cast<double>(s.at_max)) + " voxels); the " + value_text(distinct - 1) +
@@ -245,7 +249,8 @@ InputDecision decide_input(const LabelImage& image, ObjectMode mode, std::option
       } else {
         d.kind = InputKind::Labels;
         d.why = s.capped ? "more than " + value_text(static_cast<double>(kMaxDistinctTracked)) + " distinct values: labels"
-                : !greys_measured ? value_text(distinct) + " distinct non-zero values: labels"
+                : !greys_measured ? value_text(distinct) + " distinct non-zero values, the largest (" +
+                                        value_text(s.max_value) + ") neither the most frequent nor 255 / 65535: labels"
                                   : figures + ": labels";
         if (!s.capped) {
           std::string w = sliver_warning(image);
