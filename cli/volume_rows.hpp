@@ -1,7 +1,7 @@
 #pragma once
 // Label volumes on `wish describe` and `wish predict`: one result row per kept object, keyed by label id. Each row
 // starts {"file": volume, "label_id": id, "object": {voxel count, centroid, bounding box, truncated, genus, repairs,
-// surface size and timings}}; the caller adds its result from the object's mesh, or the row gets "error" (a surface
+// surface size and timings}, "input": {kind, threshold, why, warnings}}; the caller adds its result from the object's mesh, or the row gets "error" (a surface
 // refused with its reason, or the describe/classify failure). A volume that cannot be read gives one row without a
 // label id and its error. No object is dropped silently: objects removed by the filters are counted on the
 // progress line (stderr), every kept one has a row.
