@@ -4,7 +4,8 @@
 // handle: its genus, the voxels touching another object, its pieces, the smallest closing radius (1..3) that makes
 // it genus 0 and the volume that closing adds (in % of the object's voxels). The table goes to docs/accuracy.md
 // ("Handles"); it is what the default `default_closing_share` was chosen from.
-//   build/release/bench/close_handles_bench [URoCELL_DIR]
+//   build/release/bench/close_handles_bench [UROCELL_DIR]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
