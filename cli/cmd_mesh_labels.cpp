@@ -3,7 +3,8 @@
 // row per object: volume, label id, voxel count, centroid, bounding box, truncated, genus, status (meshed / refused)
 // and the reason, the surface's size, area and volume against the voxel object's, repairs and stage timings.
 // A progress line on stderr counts the objects. Exit status 1 when a volume could not be read or an object was
-// refused (the others are still written).
+// refused (the others are still written). What the volume's values were taken for (labels, mask, mask with soft
+// edges, probability map; the threshold and why) is a stderr line and the input_kind / threshold columns.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 
 #include "cli/command_registry.hpp"
 #include "cli/file_bytes.hpp"
+#include "cli/input_decision_text.hpp"
 #include "cli/volume_options.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
@@ -52,13 +54,13 @@ int run(const MeshLabelsOptions& o) {
   std::ofstream csv(fs::path(o.out) / "objects.csv");
   csv << "volume,label_id,voxel_count,centroid_x,centroid_y,centroid_z,bbox_min_x,bbox_min_y,bbox_min_z,bbox_max_x,"
          "bbox_max_y,bbox_max_z,truncated,genus,status,reason,file,vertices,faces,mesh_area,mesh_volume,voxel_volume,"
-         "volume_ratio,raw_area,unit,repairs,t_extraction,t_surface,t_smoothing,t_decimation\n";
+         "volume_ratio,raw_area,unit,repairs,t_extraction,t_surface,t_smoothing,t_decimation,input_kind,threshold\n";
   const VolumeOptions options = to_volume_options(o.volume);
   bool all_ok = true;
   for (const std::string& file : o.files) {
     const std::string stem = volume_stem(file);
     std::size_t total = 0, meshed = 0, refused = 0;
-    std::string unit;
+    std::string unit, input_kind, threshold;
     try {
       const std::string bytes = read_file_bytes(file);
       std::string out_file;  // of the object being written
@@ -91,7 +93,7 @@ int run(const MeshLabelsOptions& o) {
                 << num(s.voxel_volume > 0 && r.ok() ? s.volume / s.voxel_volume : 0) << ',' << num(s.raw_area) << ','
                 << csv_text(unit) << ',' << csv_text(repairs) << ',' << num(s.timings.extraction) << ','
                 << num(s.timings.surface) << ',' << num(s.timings.smoothing) << ',' << num(s.timings.decimation)
-                << '\n';
+                << ',' << input_kind << ',' << threshold << '\n';
             out_file.clear();
             if (!o.quiet)
               std::cerr << "\r" << stem << ": object " << (i + 1) << "/" << total << " (label " << obj.id << "), "
@@ -101,12 +103,15 @@ int run(const MeshLabelsOptions& o) {
           [&](const VolumeSummary& summary) {
             total = static_cast<std::size_t>(summary.kept);
             unit = summary.unit;
+            input_kind = volume::to_string(summary.input.kind);
+            threshold = threshold_text(summary.input);
             if (!o.quiet)
               std::cerr << stem << ": " << summary.dims[0] << "x" << summary.dims[1] << "x" << summary.dims[2] << " "
                         << summary.datatype << ", " << volume::to_string(summary.mode) << ", " << summary.found
                         << " objects found, " << summary.kept << " kept (" << summary.dropped_small << " small, "
                         << summary.dropped_truncated << " truncated, " << summary.dropped_not_selected
                         << " not selected dropped)\n";
+            print_input_decision(std::cerr, stem, summary.input, o.quiet);
           });
       if (!o.quiet) std::cerr << "\n";
     } catch (const WishError& e) {

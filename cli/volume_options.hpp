@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,9 +25,11 @@ struct VolumeCliOptions {
   std::int64_t target_vertices = 10'000;
   int smoothing_iterations = 10;
   bool close_handles = false;
+  bool no_close_handles = false;
   std::int64_t max_voxels = 512ll * 512 * 512;
   std::int64_t max_objects = 100'000;
   std::int64_t max_object_box_voxels = volume::SurfaceOptions{}.max_box_voxels;
+  std::optional<double> threshold;
 };
 
 inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
@@ -34,13 +37,20 @@ inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
   sub.add_option("--unit", o.unit, "Unit of the voxel size (e.g. nm, um)");
   sub.add_option("--objects", o.objects, "Objects: labels (each value), components (6-connected parts of a mask), auto")
       ->check(CLI::IsMember({"auto", "labels", "components"}))->capture_default_str();
+  sub.add_option("--threshold", o.threshold,
+                 "Foreground is value >= T, then 6-connected components (default: half the maximum of a mask with "
+                 "soft edges or a probability map, which auto recognises; a probability map's T is in [0, 1])");
   sub.add_option("--min-voxels", o.min_voxels, "Drop objects with fewer voxels")->capture_default_str();
   sub.add_flag("--drop-truncated", o.drop_truncated, "Drop objects touching the volume border (else flagged truncated)");
   sub.add_option("--label-ids", o.label_ids, "Only these label ids (comma-separated)")->delimiter(',');
   sub.add_option("--target-vertices", o.target_vertices, "Decimate each surface to about this many vertices (0: keep all)")
       ->capture_default_str();
   sub.add_option("--smoothing", o.smoothing_iterations, "Taubin smoothing iterations")->capture_default_str();
-  sub.add_flag("--close-handles", o.close_handles, "Try a morphological closing to make non-genus-0 objects genus 0");
+  sub.add_flag("--close-handles", o.close_handles,
+               "Keep a morphological closing (radius up to 3) that makes a genus > 0 object genus 0, whatever volume it adds");
+  sub.add_flag("--no-close-handles", o.no_close_handles,
+               "Never close handles (by default a closing adding at most 1 % of an object's volume is kept, as a repair)")
+      ->excludes("--close-handles");
   sub.add_option("--max-voxels", o.max_voxels, "Limit: voxels per volume")->capture_default_str();
   sub.add_option("--max-objects", o.max_objects, "Limit: objects per volume")->capture_default_str();
   sub.add_option("--max-object-box-voxels", o.max_object_box_voxels,
@@ -59,10 +69,12 @@ inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
   v.objects.drop_truncated = o.drop_truncated;
   v.objects.label_ids = o.label_ids;
   v.objects.max_objects = o.max_objects;
+  v.objects.threshold = o.threshold;
   v.surface.target_vertices = o.target_vertices;
   v.surface.smoothing_iterations = o.smoothing_iterations;
   v.surface.close_handles = o.close_handles;
   v.surface.max_box_voxels = o.max_object_box_voxels;
+  if (o.no_close_handles) v.surface.default_closing_share = 0;
   return v;
 }
 

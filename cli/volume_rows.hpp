@@ -1,7 +1,8 @@
 #pragma once
 // Label volumes on `wish describe` and `wish predict`: one result row per kept object, keyed by label id. Each row
 // starts {"file": volume, "label_id": id, "object": the object block of the service's VolumeObjectEntry (one
-// encoder: wire/volume_result_json.hpp)}; the caller renders the object's result into it, or the row gets "error"
+// encoder: wire/volume_result_json.hpp), "input": {kind, threshold, why, warnings} (how the volume's values were
+// read)}; the caller renders the object's result into it, or the row gets "error"
 // (core/pipeline/volume_description.hpp: a refused surface with its code's category — box_too_large is too_large,
 // as the service's 413 — or the describe/classify failure). A volume that cannot be read gives one row without a
 // label id and its error. No object is dropped silently: objects removed by the filters are counted on the
@@ -14,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/input_decision_text.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/volume_description.hpp"
 #include "wire/volume_result_json.hpp"
@@ -29,12 +31,14 @@ inline void volume_rows(const std::string& file, const std::string& bytes, const
                         std::vector<nlohmann::json>& rows) {
   std::size_t total = 0, done = 0, failed = 0;
   std::string unit;
+  nlohmann::json input;  // the object-finding decision, on every row of the volume
   try {
     describe_volume(
         bytes, options, work,
         [&](std::size_t i, VolumeObjectResult& object) {
           nlohmann::json row = {{"file", file}, {"label_id", object.object.id},
-                                {"object", wire::volume_object_json(object, unit)}};
+                                {"object", wire::volume_object_json(object, unit)},
+                                {"input", input}};
           if (object.ok()) {
             render(row, *object.result);
             ++done;
@@ -51,12 +55,14 @@ inline void volume_rows(const std::string& file, const std::string& bytes, const
         [&](const VolumeSummary& summary) {
           total = static_cast<std::size_t>(summary.kept);
           unit = summary.unit;
+          input = input_decision_json(summary.input);
           if (progress)
             std::cerr << file << ": " << summary.dims[0] << "x" << summary.dims[1] << "x" << summary.dims[2] << " "
                       << summary.datatype << ", " << volume::to_string(summary.mode) << ", " << summary.found
                       << " objects found, " << summary.kept << " kept (" << summary.dropped_small << " small, "
                       << summary.dropped_truncated << " truncated, " << summary.dropped_not_selected
                       << " not selected dropped)\n";
+          print_input_decision(std::cerr, file, summary.input, !progress);
         });
     if (progress && total > 0) std::cerr << "\n";
   } catch (const WishError& e) {

@@ -121,6 +121,7 @@ VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) 
   v.objects.min_voxels = p.min_voxels;
   v.objects.drop_truncated = p.drop_truncated;
   v.objects.label_ids = p.labels;
+  v.objects.threshold = p.threshold;
   v.objects.max_objects = config.max_volume_objects;
   v.surface.max_box_voxels = config.max_object_box_voxels;
   return v;

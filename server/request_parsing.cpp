@@ -88,6 +88,8 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
     if (b == "true" || b == "1" || b == "yes") out.drop_truncated = true;
     else if (b == "false" || b == "0" || b == "no") out.drop_truncated = false;
     else invalid_parameter(name, "drop_truncated must be true or false, not '" + value + "'", value);
+  } else if (name == "threshold") {
+    out.threshold = parse_positive(name, value, value);
   } else if (name == "labels") {
     for (const auto& item : split_commas(value)) {
       std::uint32_t id = 0;
@@ -109,7 +111,7 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
 ComputeParams parse_compute_params(Operation op, const ParamMap& params, const ServerConfig& config) {
   static const std::set<std::string> known_describe{"lmax", "method", "steps", "include", "reconstruction_level",
                                                     "format", "spacing", "unit", "objects", "min_voxels",
-                                                    "drop_truncated", "labels"};
+                                                    "drop_truncated", "labels", "threshold"};
   ComputeParams out;
   std::set<std::string> seen;
   for (const auto& [name, raw] : params) {

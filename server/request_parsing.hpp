@@ -28,6 +28,7 @@ struct VolumeParams {
   std::int64_t min_voxels = 0;                   // ?min_voxels=N: smaller objects are dropped
   bool drop_truncated = false;                   // ?drop_truncated=true: drop objects touching the border
   std::vector<std::uint32_t> labels;             // ?labels=3,7,12: only these label ids (empty: all)
+  std::optional<double> threshold;               // ?threshold=T: foreground is value >= T (auto / components)
   std::vector<std::string> given;                // names of the volume parameters the request set
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 // The JSON of a label volume upload (VolumeResult in proto/openapi.json): what was read and how objects were found
-// (VolumeSummary), and one entry per kept object, in label-id order (VolumeObjectEntry): the object (voxel count,
+// (VolumeSummary, with the `input` decision: kind of values, threshold, why, warnings), and one entry per kept object, in label-id order (VolumeObjectEntry): the object (voxel count,
 // centroid in physical units, bounding box in voxel indices, truncated, genus, repairs, surface figures, timings)
 // and either the object's DescribeResult or its error. Includes Eigen: never include from an http_*.cpp file.
 

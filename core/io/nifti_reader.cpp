@@ -83,7 +83,7 @@ bool voxel_type(int datatype, VoxelType& type) {
 
 }  // namespace
 
-VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limits) {
+VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limits, bool probabilities) {
   const bool gz = bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f && static_cast<unsigned char>(bytes[1]) == 0x8b;
   std::string inflated;
   std::string_view h = bytes;
@@ -146,7 +146,9 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
   r.datatype = to_string(type);
   r.image.dims = {dim[1], dim[2], dim[3]};
   r.image.labels.resize(static_cast<std::size_t>(n));
-  convert_labels(reinterpret_cast<const unsigned char*>(data.data() + offset), n, type, swap, r.image.labels.data(), 0, kFormat);
+  if (probabilities) r.image.probability_scale = volume::LabelImage::kProbabilityScale;
+  convert_labels(reinterpret_cast<const unsigned char*>(data.data() + offset), n, type, swap, r.image.labels.data(), 0,
+                 kFormat, r.image.probability_scale);
 
   bool spacing_ok = true;
   for (int k = 0; k < 3; ++k) {

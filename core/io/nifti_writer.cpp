@@ -3,6 +3,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include <zlib.h>
 
@@ -20,6 +21,15 @@ void append(std::string& s, const volume::LabelImage& image) {
   const std::size_t start = s.size();
   s.resize(start + image.labels.size() * sizeof(T));
   for (std::size_t i = 0; i < image.labels.size(); ++i) {
+    if constexpr (std::is_floating_point_v<T>) {
+      if (image.probability_scale > 0) {  // a probability map: write p, not its fixed-point code
+        const T p = static_cast<T>(static_cast<double>(image.labels[i]) / image.probability_scale);
+        std::memcpy(s.data() + start + i * sizeof(T), &p, sizeof(T));
+        continue;
+      }
+    }
+    if (image.probability_scale > 0)
+      throw InvalidInputError("invalid_parameter", "a probability map is written as float32 or float64 only");
     if (static_cast<double>(image.labels[i]) > static_cast<double>(std::numeric_limits<T>::max()))
       throw InvalidInputError("invalid_parameter", "label " + std::to_string(image.labels[i]) + " does not fit the NIfTI datatype");
     const T v = static_cast<T>(image.labels[i]);

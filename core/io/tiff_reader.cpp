@@ -96,7 +96,7 @@ std::string normalise_unit(std::string u) {
 
 }  // namespace
 
-VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limits) {
+VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limits, bool probabilities) {
   MemoryFile file{bytes, 0, {}};
   TIFFOpenOptions* opts = TIFFOpenOptionsAlloc();
   TIFFOpenOptionsSetErrorHandlerExtR(opts, on_error, &file);
@@ -150,6 +150,7 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
   r.datatype = to_string(type);
   r.image.dims = {width, height, pages};
   r.image.labels.resize(static_cast<std::size_t>(n));
+  if (probabilities) r.image.probability_scale = volume::LabelImage::kProbabilityScale;
   const std::size_t bs = static_cast<std::size_t>(byte_size(type));
   std::vector<unsigned char> buffer;
   for (std::int64_t z = 0; z < pages; ++z) {
@@ -183,7 +184,8 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
           for (std::uint32_t yy = 0; yy < th && ty + yy < height; ++yy) {
             const std::uint32_t cols = std::min(tw, width - tx);
             convert_labels(buffer.data() + static_cast<std::size_t>(yy) * tw * bs, cols, type, false, row.data(),
-                           (z * height + ty + yy) * static_cast<std::int64_t>(width) + tx, kFormat);
+                           (z * height + ty + yy) * static_cast<std::int64_t>(width) + tx, kFormat,
+                           r.image.probability_scale);
             std::memcpy(slice + static_cast<std::size_t>(ty + yy) * width + tx, row.data(), cols * sizeof(std::uint32_t));
           }
         }
@@ -196,7 +198,7 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
         if (TIFFReadScanline(tif, buffer.data(), y, 0) < 0) fail(file, "cannot decode row " + std::to_string(y), z);
         // libtiff returns samples in the machine's byte order.
         convert_labels(buffer.data(), width, type, false, slice + static_cast<std::size_t>(y) * width,
-                       (z * height + y) * static_cast<std::int64_t>(width), kFormat);
+                       (z * height + y) * static_cast<std::int64_t>(width), kFormat, r.image.probability_scale);
       }
     }
   }

@@ -7,8 +7,9 @@
 //   code "invalid_label"        negative, non-integer or non-finite value, or above 2^32 - 1  details: voxel, value
 //   code "limit_exceeded"       (LimitExceededError)            details: limit, value, allowed
 //   code "unsupported_format"   (category UnsupportedFormat)    neither NIfTI-1 nor TIFF
-// Supported voxel types: uint8, int8, int16, uint16, int32, uint32, float32, float64 (floats must hold integers:
-// label images are sometimes stored as floats). NIfTI's scl_slope / scl_inter are ignored (a label is a name, not a
+// Supported voxel types: uint8, int8, int16, uint16, int32, uint32, float32, float64 (floats hold integers: label
+// images are sometimes stored as floats; or they are a probability map, values in [0, 1] not all integers, held as
+// fixed point: LabelImage::probability_scale). NIfTI's scl_slope / scl_inter are ignored (a label is a name, not a
 // measurement) and noted when they are not the identity.
 // Spacing: NIfTI pixdim[1..3] with xyzt_units; TIFF X/YResolution with ResolutionUnit, ImageJ's ImageDescription
 // (`unit=`, `spacing=` for z) or OME-XML's PhysicalSize{X,Y,Z}[Unit]. `spacing_override` / `unit_override` replace
@@ -61,7 +62,7 @@ VolumeReadResult read_volume_file(const std::filesystem::path& path, const Volum
 bool is_volume_file_name(const std::filesystem::path& path);
 
 // Writes a NIfTI-1 single file (little endian, uint8 / int16 / uint16 / int32 / uint32 / float32 / float64 by
-// `datatype` name), gzip-compressed when `gzip`. For tests, round trips and exporting cleaned label images.
+// `datatype` name; a probability map as float32 / float64 probabilities), gzip-compressed when `gzip`. For tests, round trips and exporting cleaned label images.
 std::string write_nifti(const volume::LabelImage& image, std::string_view datatype = "uint32", bool gzip = false);
 
 }  // namespace wish

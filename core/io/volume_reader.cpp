@@ -52,12 +52,21 @@ VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& op
                              {{"limit", std::string("max_bytes")}, {"value", static_cast<std::int64_t>(bytes.size())},
                               {"allowed", static_cast<std::int64_t>(options.limits.max_bytes)}});
   VolumeReadResult result;
-  switch (detect_volume_format(bytes)) {
-    case VolumeFormat::Nifti: result = io_detail::read_nifti(bytes, options.limits); break;
-    case VolumeFormat::Tiff: result = io_detail::read_tiff(bytes, options.limits); break;
-    default:
-      throw WishError(ErrorCategory::UnsupportedFormat, "unsupported_format",
-                      "not a label volume: neither NIfTI-1 (.nii, .nii.gz) nor TIFF", {});
+  const VolumeFormat format = detect_volume_format(bytes);
+  if (format == VolumeFormat::Unknown)
+    throw WishError(ErrorCategory::UnsupportedFormat, "unsupported_format",
+                    "not a label volume: neither NIfTI-1 (.nii, .nii.gz) nor TIFF", {});
+  auto read = [&](bool probabilities) {
+    return format == VolumeFormat::Nifti ? io_detail::read_nifti(bytes, options.limits, probabilities)
+                                         : io_detail::read_tiff(bytes, options.limits, probabilities);
+  };
+  try {
+    result = read(false);
+  } catch (const io_detail::ProbabilityValuesFound&) {
+    // A float that is not an integer: labels cannot hold it, a probability map can. Read again as one (rare, and
+    // cheaper than holding every float volume twice).
+    result = read(true);
+    result.notes.push_back("floats that are not integers: read as a probability map (values in [0, 1])");
   }
   if (options.spacing_override) {
     const Eigen::Vector3d& s = *options.spacing_override;
@@ -135,7 +144,8 @@ T load(const unsigned char* p, bool swap) {
 }
 
 template <typename T>
-void convert(const unsigned char* data, std::int64_t count, bool swap, std::uint32_t* out, std::int64_t first, const char* format) {
+void convert(const unsigned char* data, std::int64_t count, bool swap, std::uint32_t* out, std::int64_t first,
+             const char* format, std::uint32_t probability_scale) {
   constexpr double kMax = static_cast<double>(std::numeric_limits<std::uint32_t>::max());
   for (std::int64_t i = 0; i < count; ++i) {
     const T v = load<T>(data + i * static_cast<std::int64_t>(sizeof(T)), swap);
@@ -143,7 +153,19 @@ void convert(const unsigned char* data, std::int64_t count, bool swap, std::uint
       const double d = static_cast<double>(v);
       if (!std::isfinite(d)) bad_label(first + i, d, format, "not finite");
       if (d < 0) bad_label(first + i, d, format, "negative");
-      if (d != std::floor(d)) bad_label(first + i, d, format, "not an integer");
+      if (probability_scale > 0) {
+        if (d > 1) bad_label(first + i, d, format, "above 1 in a probability map, whose values lie in [0, 1]");
+        out[i] = static_cast<std::uint32_t>(std::lround(d * probability_scale));
+        continue;
+      }
+      if (d != std::floor(d)) {
+        if (d < 1)
+          throw ProbabilityValuesFound("invalid_label", std::string(format) + " voxel " + std::to_string(first + i) +
+                                                            " holds " + std::to_string(d) +
+                                                            ": not a label; a probability map must hold values in [0, 1]",
+                                       {{"voxel", first + i}, {"value", d}, {"format", std::string(format)}});
+        bad_label(first + i, d, format, "not an integer, and above 1, so not a probability either");
+      }
       if (d > kMax) bad_label(first + i, d, format, "above 2^32 - 1");
       out[i] = static_cast<std::uint32_t>(d);
     } else {
@@ -157,16 +179,16 @@ void convert(const unsigned char* data, std::int64_t count, bool swap, std::uint
 }  // namespace
 
 void convert_labels(const unsigned char* data, std::int64_t count, VoxelType type, bool swap, std::uint32_t* out,
-                    std::int64_t first_voxel, const char* format) {
+                    std::int64_t first_voxel, const char* format, std::uint32_t probability_scale) {
   switch (type) {
-    case VoxelType::UInt8: convert<std::uint8_t>(data, count, false, out, first_voxel, format); break;
-    case VoxelType::Int8: convert<std::int8_t>(data, count, false, out, first_voxel, format); break;
-    case VoxelType::Int16: convert<std::int16_t>(data, count, swap, out, first_voxel, format); break;
-    case VoxelType::UInt16: convert<std::uint16_t>(data, count, swap, out, first_voxel, format); break;
-    case VoxelType::Int32: convert<std::int32_t>(data, count, swap, out, first_voxel, format); break;
-    case VoxelType::UInt32: convert<std::uint32_t>(data, count, swap, out, first_voxel, format); break;
-    case VoxelType::Float32: convert<float>(data, count, swap, out, first_voxel, format); break;
-    case VoxelType::Float64: convert<double>(data, count, swap, out, first_voxel, format); break;
+    case VoxelType::UInt8: convert<std::uint8_t>(data, count, false, out, first_voxel, format, 0); break;
+    case VoxelType::Int8: convert<std::int8_t>(data, count, false, out, first_voxel, format, 0); break;
+    case VoxelType::Int16: convert<std::int16_t>(data, count, swap, out, first_voxel, format, 0); break;
+    case VoxelType::UInt16: convert<std::uint16_t>(data, count, swap, out, first_voxel, format, 0); break;
+    case VoxelType::Int32: convert<std::int32_t>(data, count, swap, out, first_voxel, format, 0); break;
+    case VoxelType::UInt32: convert<std::uint32_t>(data, count, swap, out, first_voxel, format, 0); break;
+    case VoxelType::Float32: convert<float>(data, count, swap, out, first_voxel, format, probability_scale); break;
+    case VoxelType::Float64: convert<double>(data, count, swap, out, first_voxel, format, probability_scale); break;
   }
 }
 

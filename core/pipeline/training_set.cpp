@@ -98,7 +98,9 @@ ItemDescription describe_volume_item(const DatasetItem& item, const std::string&
   std::ostringstream st;
   st << summary.kept << " objects (" << summary.found << " found; dropped " << summary.dropped_small << " small, "
      << summary.dropped_truncated << " truncated, " << summary.dropped_not_selected << " not selected): "
-     << d.samples.size() << " described, " << d.losses.size() << " lost";
+     << d.samples.size() << " described, " << d.losses.size() << " lost; input " << volume::to_string(summary.input.kind);
+  if (summary.input.threshold) st << " thresholded at " << *summary.input.threshold;
+  for (const auto& w : summary.input.warnings) st << "; WARNING: " << w;
   if (flagged) st << ", " << flagged << " OFF-RECIPE kept (accept_flagged)";
   st << " (" << std::fixed << std::setprecision(1)
      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)";

@@ -21,6 +21,7 @@ VolumeSummary for_each_object_surface(std::string_view bytes, const VolumeOption
   const volume::ObjectSet objects = volume::find_objects(read.image, options.objects);
   s.objects_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   s.mode = objects.mode;
+  s.input = objects.input;
   s.found = objects.found;
   s.kept = static_cast<std::int64_t>(objects.objects.size());
   s.dropped_not_selected = objects.dropped_not_selected;

@@ -27,6 +27,7 @@ struct VolumeSummary {
   std::string unit;
   std::vector<std::string> notes;
   volume::ObjectMode mode = volume::ObjectMode::Labels;
+  volume::InputDecision input;  // kind of values, threshold and why (core/volume/input_kind.hpp)
   std::int64_t found = 0, kept = 0, dropped_not_selected = 0, dropped_small = 0, dropped_truncated = 0;
   double read_seconds = 0, objects_seconds = 0;
 };

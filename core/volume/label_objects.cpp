@@ -38,24 +38,14 @@ struct Accumulator {
                            {{"limit", std::string("max_objects")}, {"value", allowed + 1}, {"allowed", allowed}});
 }
 
-bool is_mask(const LabelImage& image) {
-  std::uint32_t value = 0;
-  for (std::uint32_t v : image.labels) {
-    if (v == 0) continue;
-    if (value == 0) value = v;
-    else if (v != value) return false;
-  }
-  return true;
-}
-
-// 6-connected components of the non-zero voxels, numbered 1.. in scan order; fills `acc`.
-std::vector<std::uint32_t> label_components(const LabelImage& image, std::int64_t max_objects,
+// 6-connected components of the foreground voxels (value >= floor), numbered 1.. in scan order; fills `acc`.
+std::vector<std::uint32_t> label_components(const LabelImage& image, std::uint32_t floor, std::int64_t max_objects,
                                             std::vector<Accumulator>& acc) {
   const std::int64_t nx = image.dims[0], ny = image.dims[1], nz = image.dims[2];
   std::vector<std::uint32_t> id(image.labels.size(), 0);
   std::vector<std::int64_t> stack;
   for (std::int64_t start = 0; start < static_cast<std::int64_t>(image.labels.size()); ++start) {
-    if (image.labels[static_cast<std::size_t>(start)] == 0 || id[static_cast<std::size_t>(start)] != 0) continue;
+    if (image.labels[static_cast<std::size_t>(start)] < floor || id[static_cast<std::size_t>(start)] != 0) continue;
     if (static_cast<std::int64_t>(acc.size()) >= max_objects) too_many(max_objects);
     acc.emplace_back();
     const auto c = static_cast<std::uint32_t>(acc.size());
@@ -67,7 +57,7 @@ std::vector<std::uint32_t> label_components(const LabelImage& image, std::int64_
       const std::int64_t x = i % nx, y = (i / nx) % ny, z = i / (nx * ny);
       acc.back().add(x, y, z);
       auto visit = [&](std::int64_t j) {
-        if (image.labels[static_cast<std::size_t>(j)] != 0 && id[static_cast<std::size_t>(j)] == 0) {
+        if (image.labels[static_cast<std::size_t>(j)] >= floor && id[static_cast<std::size_t>(j)] == 0) {
           id[static_cast<std::size_t>(j)] = c;
           stack.push_back(j);
         }
@@ -90,11 +80,12 @@ ObjectSet find_objects(const LabelImage& image, const ObjectOptions& options) {
     throw InvalidInputError("invalid_volume", "label image holds " + std::to_string(image.labels.size()) +
                                                   " values for " + std::to_string(image.voxel_count()) + " voxels");
   ObjectSet set;
-  set.mode = options.mode == ObjectMode::Auto ? (is_mask(image) ? ObjectMode::Components : ObjectMode::Labels) : options.mode;
+  set.input = decide_input(image, options.mode, options.threshold);
+  set.mode = set.input.mode;
   std::vector<Accumulator> acc;
   std::vector<std::uint32_t> ids;
   if (set.mode == ObjectMode::Components) {
-    set.component_ids = label_components(image, options.max_objects, acc);
+    set.component_ids = label_components(image, foreground_floor(image, set.input), options.max_objects, acc);
     for (std::size_t c = 0; c < acc.size(); ++c) ids.push_back(static_cast<std::uint32_t>(c + 1));
   } else {
     std::unordered_map<std::uint32_t, std::size_t> slot;

@@ -1,5 +1,6 @@
 #include "core/volume/object_surface.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,14 +31,14 @@ int genus_of(const SurfaceTopology& t) {
   return static_cast<int>((2 - t.euler) / 2);
 }
 
-std::string fmt(const char* format, double a, double b = 0, double c = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, format, a, b, c);
+std::string fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
   return buf;
 }
 
-// Largest piece and cavities filled; adds the repairs.
-void clean(BinaryVolume& box, std::vector<std::string>& repairs) {
+// Largest piece and cavities filled; adds the repairs; returns the number of pieces.
+int clean(BinaryVolume& box, std::vector<std::string>& repairs) {
   const std::int64_t before = count_foreground(box);
   const int pieces = keep_largest_component(box);
   const std::int64_t kept = count_foreground(box);
@@ -46,6 +47,83 @@ void clean(BinaryVolume& box, std::vector<std::string>& repairs) {
   const int cavities = fill_cavities(box);
   if (cavities > 0)
     repairs.push_back(fmt("filled %.0f internal cavities (%.0f voxels)", cavities, static_cast<double>(count_foreground(box) - kept)));
+  return pieces;
+}
+
+// The smallest closing (radius 1 .. max_radius) that leaves a genus-0 surface, as a candidate to keep or to report.
+struct Closing {
+  int radius = 0;  // 0: none found
+  std::int64_t added = 0;
+  BinaryVolume box;
+  Mesh mesh;
+  SurfaceTopology topology;
+  std::vector<std::string> notes;
+};
+
+Closing smallest_closing(const BinaryVolume& box, int max_radius) {
+  const std::int64_t before = count_foreground(box);
+  for (int r = 1; r <= max_radius; ++r) {
+    Closing c;
+    c.box = box;
+    morphological_close(c.box, r);
+    clean(c.box, c.notes);
+    c.mesh = marching_tetrahedra(c.box);
+    c.topology = analyze_surface(c.mesh);
+    if (genus_of(c.topology) == 0) {
+      c.radius = r;
+      c.added = count_foreground(c.box) - before;
+      return c;
+    }
+  }
+  return {};
+}
+
+// What was found about a genus > 0 object and what would help, for the refusal.
+std::string handle_findings(const ObjectSurface& s, const SurfaceOptions& options) {
+  std::string out;
+  if (!s.touching_ids.empty()) {
+    std::string ids;
+    for (std::size_t k = 0; k < s.touching_ids.size() && k < 8; ++k) ids += (k ? ", " : "") + std::to_string(s.touching_ids[k]);
+    if (s.touching_ids.size() > 8) ids += ", ...";
+    out += fmt("; it touches %.0f other object(s) on %.0f voxels (", static_cast<double>(s.touching_ids.size()),
+               static_cast<double>(s.touching_voxels)) + ids + "): objects touching in a loop make handles";
+  } else {
+    out += "; it touches no other object";
+  }
+  if (s.pieces > 1) out += fmt("; it has %.0f separate pieces (the largest was meshed)", s.pieces);
+  if (s.closing_radius > 0)
+    out += fmt("; --close-handles would close it (closing of radius %.0f, volume +%.2f %%", s.closing_radius,
+               100 * s.closing_share) +
+           (options.default_closing_share > 0
+                ? fmt("; by default only closings adding at most %.2f %% are kept)", 100 * options.default_closing_share)
+                : std::string(")"));
+  else
+    out += fmt("; a closing up to radius %.0f does not remove the handles (a true hole: --close-handles cannot help)",
+               options.max_closing_radius);
+  return out;
+}
+
+// Voxels of the object with a 6-neighbour that belongs to another object (labels touching in the segmentation).
+void count_touching(const LabelImage& image, const ObjectSet& objects, const VolumeObject& object, ObjectSurface& out) {
+  const std::int64_t nx = image.dims[0], ny = image.dims[1], nz = image.dims[2];
+  for (std::int64_t z = object.bbox_min[2]; z <= object.bbox_max[2]; ++z)
+    for (std::int64_t y = object.bbox_min[1]; y <= object.bbox_max[1]; ++y)
+      for (std::int64_t x = object.bbox_min[0]; x <= object.bbox_max[0]; ++x) {
+        const std::size_t i = image.index(x, y, z);
+        if (objects.id_at(image, i) != object.id) continue;
+        bool touches = false;
+        auto look = [&](std::int64_t a, std::int64_t b, std::int64_t c) {
+          if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) return;
+          const std::uint32_t other = objects.id_at(image, image.index(a, b, c));
+          if (other == 0 || other == object.id) return;
+          touches = true;
+          if (std::find(out.touching_ids.begin(), out.touching_ids.end(), other) == out.touching_ids.end())
+            out.touching_ids.push_back(other);
+        };
+        look(x - 1, y, z), look(x + 1, y, z), look(x, y - 1, z), look(x, y + 1, z), look(x, y, z - 1), look(x, y, z + 1);
+        out.touching_voxels += touches;
+      }
+  std::sort(out.touching_ids.begin(), out.touching_ids.end());
 }
 
 }  // namespace
@@ -72,7 +150,7 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
                              const SurfaceOptions& options) {
   ObjectSurface out;
   auto t0 = Clock::now();
-  const int pad = 1 + (options.close_handles ? std::max(0, options.max_closing_radius) : 0);
+  const int pad = 1 + std::max(0, options.max_closing_radius);  // a closing is tried on every genus > 0 object
   BinaryVolume box;
   std::int64_t box_voxels = 1;
   for (int k = 0; k < 3; ++k) {
@@ -94,30 +172,30 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
         const std::size_t i = image.index(object.bbox_min[0] + x - pad, object.bbox_min[1] + y - pad, object.bbox_min[2] + z - pad);
         box.labels[box.index(x, y, z)] = objects.id_at(image, i) == object.id;
       }
-  clean(box, out.repairs);
+  count_touching(image, objects, object, out);
+  out.pieces = clean(box, out.repairs);
   out.timings.extraction = seconds_since(t0);
 
   t0 = Clock::now();
   Mesh mesh = marching_tetrahedra(box);
   SurfaceTopology topology = analyze_surface(mesh);
   out.genus = genus_of(topology);
-  if (out.genus > 0 && options.close_handles) {
-    for (int r = 1; r <= options.max_closing_radius; ++r) {
-      BinaryVolume closed = box;
-      const std::int64_t added = morphological_close(closed, r);
-      std::vector<std::string> notes;
-      clean(closed, notes);
-      Mesh candidate = marching_tetrahedra(closed);
-      const SurfaceTopology t = analyze_surface(candidate);
-      if (genus_of(t) == 0) {
-        out.repairs.push_back(fmt("morphological closing of radius %.0f (+%.0f voxels) removed genus %.0f", r,
-                                  static_cast<double>(added), out.genus));
-        for (auto& n : notes) out.repairs.push_back("after closing: " + n);
-        box = std::move(closed);
-        mesh = std::move(candidate);
-        topology = t;
-        break;
-      }
+  if (out.genus > 0) {
+    // Tried whether or not it is kept: a refusal then says what --close-handles would change.
+    Closing c = smallest_closing(box, options.max_closing_radius);
+    out.closing_radius = c.radius;
+    out.closing_share = c.radius > 0 ? static_cast<double>(c.added) / static_cast<double>(count_foreground(box)) : 0;
+    const bool by_default = !options.close_handles && out.closing_share <= options.default_closing_share;
+    if (c.radius > 0 && (options.close_handles || by_default)) {
+      out.repairs.push_back(fmt("morphological closing of radius %.0f (+%.0f voxels, volume +%.2f %%) removed genus %.0f",
+                                c.radius, static_cast<double>(c.added), 100 * out.closing_share, out.genus) +
+                            (by_default ? fmt(" (default: kept as it adds at most %.2f %%; --no-close-handles keeps the "
+                                              "handles)", 100 * options.default_closing_share)
+                                        : std::string()));
+      for (auto& n : c.notes) out.repairs.push_back("after closing: " + n);
+      box = std::move(c.box);
+      mesh = std::move(c.mesh);
+      topology = c.topology;
     }
   }
   out.voxels_meshed = count_foreground(box);
@@ -133,9 +211,8 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
       out.refusal = "the voxel surface is not one closed manifold (" + topology.describe() + ")";
     } else {
       out.refusal_code = "genus_nonzero";
-      out.refusal = fmt("the surface has genus %.0f (%.0f handle(s)); WISH maps genus-0 surfaces only", final_genus, final_genus);
-      if (options.close_handles)
-        out.refusal += fmt("; closing up to radius %.0f did not remove them", options.max_closing_radius);
+      out.refusal = fmt("the surface has genus %.0f (%.0f handle(s)); WISH maps genus-0 surfaces only", final_genus, final_genus) +
+                    handle_findings(out, options);
     }
     return out;
   }

@@ -51,6 +51,18 @@ class ClientVolumeTest(unittest.TestCase):
         cls.server.__exit__(None, None, None)
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
+    def test_describe_volume_threshold_and_the_input_decision(self) -> None:
+        soft = sv.soft_ball(28)
+        path = self.tmp / "soft.nii"
+        path.write_bytes(sv.nifti_bytes(soft, dims=(28, 28, 28)))
+        client = WishClient(self.url)
+        r = client.describe_volume(path, lmax=4, method="cmcf")
+        self.assertEqual((r.volume["input"]["kind"], r.volume["input"]["threshold"]), ("soft_mask", 127.5))
+        self.assertEqual([o.object["voxel_count"] for o in r.objects], [sum(1 for v in soft if v >= 127.5)])
+        r = client.describe_volume(path, threshold=200, lmax=4, method="cmcf")
+        self.assertEqual(r.volume["input"]["threshold"], 200)
+        self.assertEqual([o.object["voxel_count"] for o in r.objects], [sum(1 for v in soft if v >= 200)])
+
     def test_classify_volume_one_entry_per_object(self) -> None:
         r = WishClient(self.url).classify_volume(self.volume, min_voxels=20)
         self.assertEqual(r.name, "cells.nii.gz")

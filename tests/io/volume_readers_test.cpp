@@ -139,6 +139,33 @@ TEST(NiftiReader, NonLabelValuesAreRefused) {
   }
 }
 
+TEST(NiftiReader, FloatsInZeroToOneThatAreNotIntegersAreReadAsAProbabilityMap) {
+  volume::LabelImage map = small_image();
+  map.probability_scale = volume::LabelImage::kProbabilityScale;
+  const double ps[] = {0, 0.25, 0.5, 0.75, 1, 0.125};
+  for (std::size_t i = 0; i < map.labels.size(); ++i)
+    map.labels[i] = static_cast<std::uint32_t>(ps[i % 6] * volume::LabelImage::kProbabilityScale);
+  for (const char* type : {"float32", "float64"}) {
+    const VolumeReadResult r = read_volume(write_nifti(map, type, true));
+    EXPECT_EQ(r.image.probability_scale, volume::LabelImage::kProbabilityScale);
+    EXPECT_EQ(r.image.labels, map.labels) << type;  // these probabilities are exact in fixed point
+    ASSERT_FALSE(r.notes.empty());
+    EXPECT_NE(r.notes.back().find("probability map"), std::string::npos);
+  }
+  // Integer floats stay labels; a probability map with a value above 1 is refused with the voxel.
+  EXPECT_EQ(read_volume(write_nifti(small_image(), "float32")).image.probability_scale, 0u);
+  std::string bytes = write_nifti(map, "float32");
+  const float above = 1.5f;
+  std::memcpy(bytes.data() + 352 + 4 * 4, &above, 4);
+  try {
+    read_volume(bytes);
+    FAIL() << "1.5 accepted in a probability map";
+  } catch (const WishError& e) {
+    EXPECT_EQ(e.code(), "invalid_label");
+    EXPECT_EQ(std::get<std::int64_t>(e.details().at("voxel")), 4);
+  }
+}
+
 // Writes a multi-page TIFF with libtiff (one page per z slice) and returns its bytes.
 template <typename T>
 std::string write_tiff(const volume::LabelImage& image, int sample_format, const std::string& description, bool tiled = false) {
@@ -159,7 +186,10 @@ std::string write_tiff(const volume::LabelImage& image, int sample_format, const
     TIFFSetField(tif, TIFFTAG_YRESOLUTION, static_cast<float>(1.0 / image.spacing(1)));
     TIFFSetField(tif, TIFFTAG_RESOLUTIONUNIT, RESUNIT_NONE);
     std::vector<T> plane(static_cast<std::size_t>(image.dims[0] * image.dims[1]));
-    for (std::size_t i = 0; i < plane.size(); ++i) plane[i] = static_cast<T>(image.labels[static_cast<std::size_t>(z) * plane.size() + i]);
+    for (std::size_t i = 0; i < plane.size(); ++i) {
+      const double v = image.labels[static_cast<std::size_t>(z) * plane.size() + i];
+      plane[i] = static_cast<T>(image.probability_scale > 0 ? v / image.probability_scale : v);  // a probability map: p
+    }
     if (tiled) {
       TIFFSetField(tif, TIFFTAG_TILEWIDTH, 16u);
       TIFFSetField(tif, TIFFTAG_TILELENGTH, 16u);
@@ -200,6 +230,15 @@ TEST(TiffReader, RoundTripsStacksWithImageJSpacing) {
   EXPECT_EQ(read_volume(write_tiff<std::int32_t>(image, SAMPLEFORMAT_INT, imagej)).image.labels, image.labels);
   EXPECT_EQ(read_volume(write_tiff<float>(image, SAMPLEFORMAT_IEEEFP, imagej)).image.labels, image.labels);
   EXPECT_EQ(read_volume(write_tiff<std::uint32_t>(image, SAMPLEFORMAT_UINT, imagej, /*tiled=*/true)).image.labels, image.labels);
+  // A float probability map, stripped and tiled.
+  volume::LabelImage map = image;
+  map.probability_scale = volume::LabelImage::kProbabilityScale;
+  for (std::size_t i = 0; i < map.labels.size(); ++i) map.labels[i] = static_cast<std::uint32_t>((i % 5) * (map.probability_scale / 4));
+  for (bool tiled : {false, true}) {
+    const VolumeReadResult p = read_volume(write_tiff<float>(map, SAMPLEFORMAT_IEEEFP, "", tiled));
+    EXPECT_EQ(p.image.probability_scale, map.probability_scale);
+    EXPECT_EQ(p.image.labels, map.labels);
+  }
 }
 
 TEST(TiffReader, OmeXmlSpacing) {

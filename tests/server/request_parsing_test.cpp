@@ -121,7 +121,7 @@ TEST(ParseComputeParams, VolumeParametersMirrorMeshLabels) {
   const ComputeParams p = parse_compute_params(
       Operation::Describe,
       {{"spacing", "0.016, 0.016,0.015"}, {"unit", "um"}, {"objects", "Components"}, {"min_voxels", "50"},
-       {"drop_truncated", "TRUE"}, {"labels", "3,7, 12"}},
+       {"drop_truncated", "TRUE"}, {"labels", "3,7, 12"}, {"threshold", "0.5"}},
       config());
   ASSERT_TRUE(p.volume.spacing);
   EXPECT_DOUBLE_EQ((*p.volume.spacing)[2], 0.015);
@@ -130,7 +130,9 @@ TEST(ParseComputeParams, VolumeParametersMirrorMeshLabels) {
   EXPECT_EQ(p.volume.min_voxels, 50);
   EXPECT_TRUE(p.volume.drop_truncated);
   EXPECT_EQ(p.volume.labels, (std::vector<std::uint32_t>{3, 7, 12}));
-  EXPECT_EQ(p.volume.given.size(), 6u);
+  ASSERT_TRUE(p.volume.threshold);
+  EXPECT_EQ(*p.volume.threshold, 0.5);
+  EXPECT_EQ(p.volume.given.size(), 7u);
   EXPECT_TRUE(parse_compute_params(Operation::Describe, {}, config()).volume.given.empty());
 }
 
@@ -138,7 +140,8 @@ TEST(ParseComputeParams, VolumeParameterRefusals) {
   for (const auto& [name, value] : std::vector<std::pair<std::string, std::string>>{
            {"spacing", "1,1"}, {"spacing", "1,-1,1"}, {"spacing", "1,nan,1"}, {"spacing", "1,1,1,1"},
            {"unit", "n m"}, {"unit", ""}, {"objects", "cells"}, {"min_voxels", "-3"}, {"drop_truncated", "2"},
-           {"labels", "0"}, {"labels", "1,,2"}, {"labels", "-4"}, {"labels", "4294967296"}}) {
+           {"labels", "0"}, {"labels", "1,,2"}, {"labels", "-4"}, {"labels", "4294967296"}, {"threshold", "0"},
+           {"threshold", "half"}, {"threshold", "inf"}}) {
     const auto e = thrown([&, n = name, v = value] { parse_compute_params(Operation::Describe, {{n, v}}, config()); });
     EXPECT_EQ(e.code(), "invalid_parameter") << name << "=" << value;
     EXPECT_EQ(detail(e, "parameter"), name) << value;

@@ -157,6 +157,37 @@ class ServerVolumeTest(unittest.TestCase):
             self.assertEqual(body["error"]["code"], "invalid_parameter", query)
             self.assertEqual(body["error"]["details"]["parameter"], parameter, query)
 
+    def test_soft_edged_mask_is_thresholded_and_says_so(self):
+        n = 28
+        soft = sv.soft_ball(n)
+        nii = sv.nifti_bytes(soft, dims=(n, n, n))
+        r, body = self.describe(nii, "?lmax=4&method=cmcf")
+        self.assertEqual(r.status, 200, body)
+        h.validate("VolumeResult", body)
+        decision = body["volume"]["input"]
+        self.assertEqual((decision["kind"], decision["threshold"], decision["warnings"]), ("soft_mask", 127.5, []))
+        self.assertIn("interpolated edges", decision["why"])
+        self.assertEqual(len(body["objects"]), 1)  # not one object per grey level
+        self.assertEqual(body["objects"][0]["object"]["voxel_count"], sum(1 for v in soft if v >= 127.5))
+        # ?threshold= sets it, in the file's values.
+        r, body = self.describe(nii, "?lmax=4&method=cmcf&threshold=250")
+        self.assertEqual(r.status, 200, body)
+        self.assertEqual(body["volume"]["input"]["threshold"], 250)
+        self.assertIn("set by the caller", body["volume"]["input"]["why"])
+        self.assertEqual(body["objects"][0]["object"]["voxel_count"], sum(1 for v in soft if v >= 250))
+        for query in ("?threshold=0", "?threshold=abc", "?objects=labels&threshold=100"):
+            r, body = self.describe(nii, query)
+            self.assertEqual(r.status, 400, query)
+            self.assertEqual(body["error"]["code"], "invalid_parameter", query)
+            self.assertEqual(body["error"]["details"]["parameter"], "threshold", query)
+        # Read as labels, each grey level is an object, and the answer warns with the option that helps.
+        r, body = self.describe(nii, "?lmax=4&method=cmcf&objects=labels&labels=255")
+        h.validate("VolumeResult", body)
+        self.assertEqual(body["volume"]["input"]["kind"], "soft_mask")
+        self.assertGreater(body["volume"]["objects_found"], 15)
+        self.assertEqual(len(body["volume"]["input"]["warnings"]), 1)
+        self.assertIn("objects=components&threshold=T", body["volume"]["input"]["warnings"][0])
+
     def test_broken_volume_is_a_parse_error(self):
         r, body = self.describe(self.nii[:400])  # header and a few voxels
         self.assertGreaterEqual(r.status, 400)

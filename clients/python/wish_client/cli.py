@@ -56,7 +56,8 @@ def _label_ids(text: str) -> list[int]:
 
 def _volume_params(args: argparse.Namespace) -> dict[str, Any]:
     return volume_query(spacing=args.spacing, unit=args.unit, objects=args.objects, min_voxels=args.min_voxels,
-                        drop_truncated=True if args.drop_truncated else None, labels=args.labels)
+                        drop_truncated=True if args.drop_truncated else None, labels=args.labels,
+                        threshold=args.threshold)
 
 
 def _add_server_args(p: argparse.ArgumentParser) -> None:
@@ -100,6 +101,8 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--unit", help="unit of the voxel size (e.g. nm, um)")
     v.add_argument("--objects", choices=["auto", "labels", "components"], help="object rule (server default: auto)")
     v.add_argument("--min-voxels", type=int, help="drop objects with fewer voxels")
+    v.add_argument("--threshold", type=float,
+                   help="mask with soft edges / probability map: foreground is value >= T (server default: half its maximum)")
     v.add_argument("--drop-truncated", action="store_true", help="drop objects touching the volume border")
     v.add_argument("--labels", type=_label_ids, metavar="ID,ID,...", help="only these label ids")
     c.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")

@@ -40,9 +40,10 @@ MeshInput = Union[str, os.PathLike, bytes, tuple[str, bytes]]
 _FORMATS = ("obj", "ply", "off", "stl")  # the `format` hint of a raw body (proto: components/parameters/format)
 
 #: Label volume files (NIfTI-1, TIFF stacks); the server detects them from the content. Volume options
-#: (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated, labels) mirror ``wish mesh-labels``.
+#: (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated, labels, threshold) mirror
+#: ``wish mesh-labels``.
 VOLUME_EXTENSIONS = (".nii", ".nii.gz", ".tif", ".tiff")
-VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels")
+VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "threshold")
 
 
 def is_volume_name(name: str | os.PathLike) -> bool:
@@ -52,7 +53,7 @@ def is_volume_name(name: str | os.PathLike) -> bool:
 
 def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None = None, objects: str | None = None,
                  min_voxels: int | None = None, drop_truncated: bool | str | None = None,
-                 labels: Sequence[int] | str | None = None) -> dict[str, Any]:
+                 labels: Sequence[int] | str | None = None, threshold: float | str | None = None) -> dict[str, Any]:
     """The query parameters of a volume upload (``None``: the server's default). ``spacing`` and ``labels`` may
     also be given already encoded ("1,1,2", "3,7")."""
     q: dict[str, Any] = {}
@@ -76,6 +77,8 @@ def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None 
         q["labels"] = labels
     elif labels:
         q["labels"] = ",".join(str(int(v)) for v in labels)
+    if threshold is not None:
+        q["threshold"] = threshold if isinstance(threshold, str) else repr(float(threshold))
     return q
 
 
@@ -180,7 +183,9 @@ class VolumeResult:
 
     name: str
     objects: list[VolumeObjectResult]
-    volume: dict[str, Any] = field(default_factory=dict)  # format, dims, spacing, unit, objects found / dropped
+    # format, dims, spacing, unit, objects found / dropped, input (kind: labels / mask / soft_mask /
+    # probability_map, threshold, why, warnings)
+    volume: dict[str, Any] = field(default_factory=dict)
     request_id: str | None = None
     raw: dict[str, Any] = field(default_factory=dict)
 
@@ -411,26 +416,28 @@ class WishClient:
 
     def classify_volume(self, volume: MeshInput, *, model: str | None = None, spacing: Sequence[float] | None = None,
                         unit: str | None = None, objects: str | None = None, min_voxels: int | None = None,
-                        drop_truncated: bool | None = None, labels: Sequence[int] | None = None, **params: Any
-                        ) -> VolumeResult:
+                        drop_truncated: bool | None = None, labels: Sequence[int] | None = None,
+                        threshold: float | None = None, **params: Any) -> VolumeResult:
         """Classifies every object of a label volume (NIfTI-1 .nii / .nii.gz, TIFF stack) in one request.
 
         The volume options mirror ``wish mesh-labels``: ``spacing`` (x, y, z voxel size, overriding the file's),
         ``unit``, ``objects`` (``labels`` / ``components`` / ``auto``), ``min_voxels``, ``drop_truncated``,
-        ``labels`` (a subset of label ids). An object that cannot be classified carries its own error, whatever
+        ``labels`` (a subset of label ids), ``threshold`` (a mask with soft edges or a probability map: foreground
+        is value >= threshold; default half its maximum; ``volume["input"]`` says what was decided). An object that cannot be classified carries its own error, whatever
         the answer's status (200 all classified, 207 some refused, the common 4xx when all were: proto
         VolumeResult); a volume that fails as a whole raises :class:`WishServerError` — unreadable, past the time
         limit, or with no object left after the filters (422 ``no_objects``, its counts in ``details``).
         """
-        query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels), **params}
+        query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold),
+                 **params}
         return self._post_volume("/v1/classify", volume, query, classify=True)
 
     def describe_volume(self, volume: MeshInput, *, spacing: Sequence[float] | None = None, unit: str | None = None,
                         objects: str | None = None, min_voxels: int | None = None,
-                        drop_truncated: bool | None = None, labels: Sequence[int] | None = None, **params: Any
-                        ) -> VolumeResult:
+                        drop_truncated: bool | None = None, labels: Sequence[int] | None = None,
+                        threshold: float | None = None, **params: Any) -> VolumeResult:
         """SH descriptor of every object of a label volume; same options as :meth:`classify_volume`."""
-        query = {**volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels), **params}
+        query = {**volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold), **params}
         return self._post_volume("/v1/describe", volume, query, classify=False)
 
     def _post_volume(self, path: str, volume: MeshInput, query: dict[str, Any], classify: bool) -> VolumeResult:
