@@ -12,8 +12,10 @@ namespace wish::io_detail {
 
 VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limits);
 VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limits);
+VolumeReadResult read_zarr_zip(std::string_view bytes, const VolumeReadOptions& options);  // zarr_reader.cpp
+bool is_zarr_zip(std::string_view bytes);                                                  // zarr_store.cpp
 
-enum class VoxelType { UInt8, Int8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+enum class VoxelType { UInt8, Int8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64 };
 const char* to_string(VoxelType type);
 int byte_size(VoxelType type);
 
