@@ -16,7 +16,6 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command_registry.hpp"
-#include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"
 #include "core/common/errors.hpp"
@@ -61,7 +60,7 @@ void describe_file(const std::string& file, const PipelineOptions& options, cons
   };
   nlohmann::json out = {{"file", file}};
   try {
-    const std::string bytes = read_file_bytes(file);
+    const std::string bytes = read_volume_input(file, volume.read);  // a zarr store directory: its zip
     if (detect_volume_format(bytes) != VolumeFormat::Unknown) {
       volume_rows(file, bytes, volume, progress,
                   [&](nlohmann::json& row, Mesh mesh) { describe_into(row, describe_mesh(std::move(mesh), options)); },
@@ -139,7 +138,7 @@ void print_table(const nlohmann::json& r, std::ostream& os) {
 
 CommandRunner setup_describe(CLI::App& sub) {
   auto options = std::make_shared<DescribeOptions>();
-  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF)")->required();
+  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF, OME-Zarr store or .zip)")->required();
   sub.add_option("--lmax", options->lmax, "Maximum SH degree")->check(CLI::Range(0, kShMaxFitLmax))->capture_default_str();
   auto* json = sub.add_flag("--json", options->json, "JSON array, one object per file");
   sub.add_flag("--csv", options->csv, "CSV, one row per mesh, invariants as columns xi_0..xi_L")->excludes(json);

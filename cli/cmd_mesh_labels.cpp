@@ -16,7 +16,6 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/command_registry.hpp"
-#include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
@@ -59,7 +58,7 @@ int run(const MeshLabelsOptions& o) {
     std::size_t total = 0, meshed = 0, refused = 0;
     std::string unit;
     try {
-      const std::string bytes = read_file_bytes(file);
+      const std::string bytes = read_volume_input(file, options.read);  // a zarr store directory: its zip
       for_each_object_surface(
           bytes, options,
           [&](std::size_t i, const volume::VolumeObject& obj, volume::ObjectSurface& s) {
@@ -109,7 +108,7 @@ int run(const MeshLabelsOptions& o) {
 
 CommandRunner setup(CLI::App& sub) {
   auto o = std::make_shared<MeshLabelsOptions>();
-  sub.add_option("volumes", o->files, "Label volumes (NIfTI-1 .nii/.nii.gz, TIFF stacks)")->required();
+  sub.add_option("volumes", o->files, "Label volumes (NIfTI-1 .nii/.nii.gz, TIFF stacks, OME-Zarr stores or their .zip)")->required();
   sub.add_option("--out", o->out, "Output directory (meshes and objects.csv)")->required();
   sub.add_option("--format", o->format, "Mesh format")->check(CLI::IsMember({"ply", "obj", "off", "stl"}))->capture_default_str();
   sub.add_flag("--quiet", o->quiet, "No progress line");

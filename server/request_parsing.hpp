@@ -27,6 +27,8 @@ struct VolumeParams {
   std::int64_t min_voxels = 0;                   // ?min_voxels=N: smaller objects are dropped
   bool drop_truncated = false;                   // ?drop_truncated=true: drop objects touching the border
   std::vector<std::uint32_t> labels;             // ?labels=3,7,12: only these label ids (empty: all)
+  std::string label_image;                       // ?label_image=cells: an OME-Zarr upload's labels/<name> (CLI --labels)
+  int level = 0;                                 // ?level=N: an OME-Zarr upload's multiscale level (CLI --level)
   std::vector<std::string> given;                // names of the volume parameters the request set
 };
 

@@ -73,7 +73,7 @@ class ServerApiTest(unittest.TestCase):
             return "nm"
         params = [h.OPENAPI["components"]["parameters"][p["$ref"].split("/")[-1]]
                   for p in h.OPENAPI["paths"]["/v1/describe"]["post"]["parameters"]]
-        volume_only = {"spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels"}
+        volume_only = {"spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "label_image", "level"}
         for p in params:
             r = self.server.post_mesh("/v1/describe?%s=%s" % (p["name"], sample(p["schema"])), self.sphere_off)
             body = r.json()

@@ -45,7 +45,8 @@ def write_ome_zarr(store, labels_zyx, spacing_xyz=(1.0, 1.0, 1.0), unit="um", co
         labels = labels.astype(dtype)
     lead = tuple(1 for _ in extra_axes)
     axes = [{"name": a, "type": t} for a, t in extra_axes] + [
-        dict({"name": a, "type": "space"}, **({"unit": UNITS.get(unit, unit)} if unit else {})) for a in ("z", "y", "x")]
+        dict({"name": a, "type": "space"}, **({"unit": UNITS.get(unit, unit)} if unit else {}))
+        for a in ("z", "y", "x")]
     sz, sy, sx = spacing_xyz[2], spacing_xyz[1], spacing_xyz[0]
 
     def multiscales(levels):
@@ -92,7 +93,8 @@ def write_store(path, labels_zyx, zip_store=False, **kwargs):
 
 def read_nifti(path):
     """(labels z, y, x as stored, spacing x, y, z, unit) of a NIfTI-1 single file, little endian, gzipped or not."""
-    raw = open(path, "rb").read()
+    with open(path, "rb") as f:
+        raw = f.read()
     if raw[:2] == b"\x1f\x8b":
         raw = gzip.decompress(raw)
     dims = struct.unpack("<8h", raw[40:56])
