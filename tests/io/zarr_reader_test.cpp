@@ -127,7 +127,10 @@ void put_array(Store& store, const Layout& l) {
       raw += encode(l.dtype, v);
     }
     std::string key = l.prefix;
-    for (std::size_t d = 0; d < nd; ++d) key += (d ? std::string(1, l.separator) : "") + std::to_string(g[d]);
+    for (std::size_t d = 0; d < nd; ++d) {
+      if (d) key += l.separator;
+      key += std::to_string(g[d]);
+    }
     if (any || !l.skip_background_chunks) store[key] = l.zlib ? zlib_compress(raw) : raw;
     for (std::size_t d = nd; d-- > 0;) {
       if (++g[d] < grid[d]) break;
