@@ -67,7 +67,7 @@ void describe_file(const std::string& file, const PipelineOptions& options, cons
   };
   nlohmann::json out = {{"file", file}};
   try {
-    const std::string bytes = read_file_bytes(file);
+    const std::string bytes = read_volume_input(file, volume.read);  // a zarr store directory: its zip
     if (detect_volume_format(bytes) != VolumeFormat::Unknown) {
       volume_rows(file, bytes, volume, progress,
                   [&](const volume::VolumeObject&, Mesh mesh) -> std::optional<PipelineResult> {
@@ -156,7 +156,7 @@ constexpr const char* kDefaultsFooter =
 CommandRunner setup_describe(CLI::App& sub) {
   auto options = std::make_shared<DescribeOptions>();
   const PipelineOptions defaults;
-  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF)")->required();
+  sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF, OME-Zarr store or .zip)")->required();
   sub.add_option("--lmax", options->overrides.lmax, "Maximum SH degree")
       ->check(CLI::Range(0, kShMaxFitLmax))->default_str(std::to_string(defaults.sh.lmax));
   auto* json = sub.add_flag("--json", options->json, "JSON array, one object per file");

@@ -62,7 +62,7 @@ int run(const MeshLabelsOptions& o) {
     std::size_t total = 0, meshed = 0, refused = 0;
     std::string unit, input_kind, threshold;
     try {
-      const std::string bytes = read_file_bytes(file);
+      const std::string bytes = read_volume_input(file, options.read);  // a zarr store directory: its zip
       std::string out_file;  // of the object being written
       describe_volume(
           bytes, options,
@@ -124,7 +124,7 @@ int run(const MeshLabelsOptions& o) {
 
 CommandRunner setup(CLI::App& sub) {
   auto o = std::make_shared<MeshLabelsOptions>();
-  sub.add_option("volumes", o->files, "Label volumes (NIfTI-1 .nii/.nii.gz, TIFF stacks)")->required();
+  sub.add_option("volumes", o->files, "Label volumes (NIfTI-1 .nii/.nii.gz, TIFF stacks, OME-Zarr stores or their .zip)")->required();
   sub.add_option("--out", o->out, "Output directory (meshes and objects.csv)")->required();
   sub.add_option("--format", o->format, "Mesh format")->check(CLI::IsMember({"ply", "obj", "off", "stl"}))->capture_default_str();
   sub.add_flag("--quiet", o->quiet, "No progress line");

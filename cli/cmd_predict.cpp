@@ -50,7 +50,7 @@ std::string csv_quote(const std::string& s) {
 CommandRunner setup_predict(CLI::App& sub) {
   auto o = std::make_shared<PredictOptions>();
   sub.add_option("--model", o->model, "Model file written by `wish train` (e.g. data/models/default.json)")->required();
-  auto* files = sub.add_option("files", o->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF)");
+  auto* files = sub.add_option("files", o->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF, OME-Zarr store or .zip)");
   sub.add_option("--descriptors", o->descriptors,
                  "Descriptor CSV (xi_0..xi_L columns, as `wish describe --csv` writes) instead of mesh files")
       ->excludes(files);
@@ -111,7 +111,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     for (const auto& file : o->files) {
       nlohmann::json r = {{"file", file}};
       try {
-        const std::string bytes = read_file_bytes(file);
+        const std::string bytes = read_volume_input(file, volume.read);  // a zarr store directory: its zip
         if (detect_volume_format(bytes) != VolumeFormat::Unknown) {  // a label volume: one row per kept object
           const PipelineOptions po = options_for_recipe(model.recipe());
           volume_rows(file, bytes, volume, !o->quiet,

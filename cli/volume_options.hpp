@@ -30,6 +30,8 @@ struct VolumeCliOptions {
   std::int64_t max_objects = 100'000;
   std::int64_t max_object_box_voxels = volume::SurfaceOptions{}.max_box_voxels;
   std::optional<double> threshold;
+  std::string zarr_labels;  // OME-Zarr: labels/<name> (empty: the first listed)
+  int zarr_level = 0;       // OME-Zarr: multiscale level
 };
 
 inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
@@ -56,6 +58,10 @@ inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
   sub.add_option("--max-object-box-voxels", o.max_object_box_voxels,
                  "Limit: padded bounding box of one object (past it: box_too_large, too_large as the service's 413)")
       ->capture_default_str();
+  // Not --labels: `wish train --labels` names a manifest. As the HTTP API's ?label_image=.
+  sub.add_option("--label-image", o.zarr_labels, "OME-Zarr: the label image labels/NAME to read (default: the first listed)");
+  sub.add_option("--level", o.zarr_level, "OME-Zarr: multiscale level (0: full resolution)")->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
 }
 
 inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
@@ -63,6 +69,8 @@ inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
   if (!o.spacing.empty()) v.read.spacing_override = Eigen::Vector3d(o.spacing[0], o.spacing[1], o.spacing[2]);
   if (!o.unit.empty()) v.read.unit_override = o.unit;
   v.read.limits.max_voxels = o.max_voxels;
+  v.read.zarr_labels = o.zarr_labels;
+  v.read.zarr_level = o.zarr_level;
   v.objects.mode = o.objects == "labels" ? volume::ObjectMode::Labels
                    : o.objects == "components" ? volume::ObjectMode::Components : volume::ObjectMode::Auto;
   v.objects.min_voxels = o.min_voxels;
@@ -78,10 +86,13 @@ inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
   return v;
 }
 
-// "fib1-0-0-0.nii.gz" -> "fib1-0-0-0".
+// "fib1-0-0-0.nii.gz" -> "fib1-0-0-0"; "cells.ome.zarr/" -> "cells".
 inline std::string volume_stem(const std::string& path) {
-  std::string name = std::filesystem::path(path).filename().string();
-  for (const char* ext : {".nii.gz", ".NII.GZ", ".nii", ".NII", ".tiff", ".TIFF", ".tif", ".TIF"}) {
+  std::filesystem::path p(path);
+  if (!p.has_filename()) p = p.parent_path();  // a store directory named with a trailing slash
+  std::string name = p.filename().string();
+  for (const char* ext : {".nii.gz", ".NII.GZ", ".nii", ".NII", ".tiff", ".TIFF", ".tif", ".TIF", ".ome.zarr.zip",
+                          ".zarr.zip", ".ome.zarr", ".zarr", ".zip"}) {
     const std::string e = ext;
     if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0) return name.substr(0, name.size() - e.size());
   }

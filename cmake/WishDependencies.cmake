@@ -25,6 +25,11 @@ add_library(wish::libsvm INTERFACE IMPORTED)
 target_include_directories(wish::libsvm INTERFACE ${LIBSVM_INCLUDE_DIR})
 target_link_libraries(wish::libsvm INTERFACE ${LIBSVM_LIBRARY})
 
+# OME-Zarr label images: zip stores (libzip) and the chunk compressors zstd and blosc (zlib is above).
+pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
+
 # cpp-httplib 0.11 is a compiled library with only a pkg-config file.
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 

@@ -10,12 +10,14 @@ runtime_build=(
   libeigen3-dev libsuitesparse-dev libopenblas-dev libopenblas0-pthread
   libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsvm-dev
   zlib1g-dev libtiff-dev libopenmesh-dev
+  libzip-dev libzstd-dev libblosc-dev   # OME-Zarr label images: zip stores, zstd and blosc chunks
   libgtest-dev libgmock-dev libbenchmark-dev
   python3
 )
 test_extra=(
   clang libclang-rt-14-dev
   python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
+  python3-zarr                       # writes the OME-Zarr stores the reader's tests read (an independent writer)
   assimp-testmodels nginx-light wrk yamllint python3-yaml
   chromium
   docker.io debootstrap              # scripts/test-docker.sh: the image built and run, its base made from Debian

@@ -115,6 +115,8 @@ VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) 
   v.read.limits.max_voxels = config.max_volume_voxels;
   if (p.spacing) v.read.spacing_override = Eigen::Vector3d((*p.spacing)[0], (*p.spacing)[1], (*p.spacing)[2]);
   if (p.unit) v.read.unit_override = *p.unit;
+  v.read.zarr_labels = p.label_image;
+  v.read.zarr_level = p.level;
   v.objects.mode = p.objects == "labels"       ? volume::ObjectMode::Labels
                    : p.objects == "components" ? volume::ObjectMode::Components
                                                : volume::ObjectMode::Auto;
@@ -220,7 +222,7 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
     if (!job.part.volume && !job.params.volume.given.empty())
       throw InvalidInputError("invalid_parameter",
                               "parameter '" + job.params.volume.given.front() +
-                                  "' applies to label volumes (NIfTI-1, TIFF) only; this part is a mesh",
+                                  "' applies to label volumes (NIfTI-1, TIFF, OME-Zarr) only; this part is a mesh",
                               {{"parameter", job.params.volume.given.front()}});
     if (job.part.volume) {
       run_volume(job, config, out);  // sets the status from the objects'

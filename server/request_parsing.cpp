@@ -90,6 +90,13 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
     else invalid_parameter(name, "drop_truncated must be true or false, not '" + value + "'", value);
   } else if (name == "threshold") {
     out.threshold = parse_positive(name, value, value);
+  } else if (name == "label_image") {
+    const bool plain = !value.empty() && value.size() <= 255 && value.find('/') == std::string::npos &&
+                       std::all_of(value.begin(), value.end(), [](unsigned char c) { return c > 32 && c < 127; });
+    if (!plain) invalid_parameter(name, "parameter label_image='" + value + "' must name one label image (labels/NAME)", value);
+    out.label_image = value;
+  } else if (name == "level") {
+    out.level = static_cast<int>(parse_int(name, value, 0, 64));
   } else if (name == "labels") {
     for (const auto& item : split_commas(value)) {
       std::uint32_t id = 0;
@@ -111,7 +118,7 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
 ComputeParams parse_compute_params(Operation op, const ParamMap& params, const ServerConfig& config) {
   static const std::set<std::string> known_describe{"lmax", "method", "steps", "include", "reconstruction_level",
                                                     "format", "spacing", "unit", "objects", "min_voxels",
-                                                    "drop_truncated", "labels", "threshold"};
+                                                    "drop_truncated", "labels", "threshold", "label_image", "level"};
   ComputeParams out;
   std::set<std::string> seen;
   for (const auto& [name, raw] : params) {

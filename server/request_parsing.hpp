@@ -29,6 +29,8 @@ struct VolumeParams {
   bool drop_truncated = false;                   // ?drop_truncated=true: drop objects touching the border
   std::vector<std::uint32_t> labels;             // ?labels=3,7,12: only these label ids (empty: all)
   std::optional<double> threshold;               // ?threshold=T: foreground is value >= T (auto / components)
+  std::string label_image;                       // ?label_image=cells: an OME-Zarr upload's labels/<name> (CLI --labels)
+  int level = 0;                                 // ?level=N: an OME-Zarr upload's multiscale level (CLI --level)
   std::vector<std::string> given;                // names of the volume parameters the request set
 };
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Describe many meshes on a Slurm cluster: shards in an `sbatch --array` job, one merged CSV, resumable.
 
-    wish_slurm.py submit MANIFEST --workdir DIR --shards K [--wish PATH] [--lmax L] [--sbatch-arg=ARG ...] [--wait]
+    wish_slurm.py submit MANIFEST --workdir DIR --shards K [--wish PATH] [--lmax L] [--label-image NAME --level N]
+                         [--sbatch-arg=ARG ...] [--wait]
     wish_slurm.py status DIR
     wish_slurm.py merge DIR          (what the merge job runs)
 
@@ -53,6 +54,16 @@ def cut(items: list[str], shards: int) -> list[list[str]]:
     return [items[len(items) * i // k: len(items) * (i + 1) // k] for i in range(k)]
 
 
+def volume_args(state: dict) -> str:
+    """`wish describe` options for OME-Zarr stores in the manifest (first run's; none when not given)."""
+    out = ""
+    if state.get("label_image"):
+        out += " --label-image " + shlex.quote(str(state["label_image"]))
+    if state.get("level"):
+        out += " --level " + str(int(state["level"]))
+    return out
+
+
 def shard_name(i: int) -> str:
     return f"{i:04d}"
 
@@ -65,7 +76,7 @@ id=$(printf %04d "$SLURM_ARRAY_TASK_ID")
 mapfile -t meshes < "shards/$id.txt"
 echo "$(date -u +%FT%TZ) job ${{SLURM_ARRAY_JOB_ID:-?}} task $SLURM_ARRAY_TASK_ID on $(hostname -s)" >> "attempts/$id"
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-{wish} describe --csv --lmax {lmax} "${{meshes[@]}}" > "out/$id.csv.tmp" 2> "logs/shard-$id.err"
+{wish} describe --csv --lmax {lmax}{volume_args} "${{meshes[@]}}" > "out/$id.csv.tmp" 2> "logs/shard-$id.err"
 rc=$?
 if [[ $rc -eq 0 ]]; then
   mv "out/$id.csv.tmp" "out/$id.csv"
@@ -96,11 +107,13 @@ def submit(args: argparse.Namespace) -> int:
             (workdir / "shards" / f"{shard_name(i)}.txt").write_text("".join(f + "\n" for f in files))
         (workdir / "manifest.txt").write_text("".join(f + "\n" for f in manifest))
         shards = len(slices)
-        state = {"manifest_sha256": digest, "shards": shards, "meshes": len(manifest), "lmax": args.lmax}
+        state = {"manifest_sha256": digest, "shards": shards, "meshes": len(manifest), "lmax": args.lmax,
+                 "label_image": args.label_image, "level": args.level}
         state_path.write_text(json.dumps(state, indent=1) + "\n")
     (workdir / "shard.sh").write_text(SHARD_SCRIPT.format(workdir=shlex.quote(str(workdir)),
                                                           wish=shlex.quote(str(Path(wish).resolve())),
-                                                          lmax=int(state["lmax"])))
+                                                          lmax=int(state["lmax"]),
+                                                          volume_args=volume_args(state)))
     todo = [i for i in range(shards) if not (workdir / "out" / f"{shard_name(i)}.csv").exists()]
     if not todo:
         print(f"wish_slurm: all {shards} shards are done; merging")
@@ -203,6 +216,9 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--shards", type=int, default=10, help="array tasks (first run only; default 10)")
     s.add_argument("--wish", default="wish", help="the wish executable on the nodes (default: wish on PATH)")
     s.add_argument("--lmax", type=int, default=15, help="wish describe --lmax (first run only; default 15)")
+    s.add_argument("--label-image", default=None,
+                   help="OME-Zarr stores in the manifest: the label image labels/NAME (first run only; default: first)")
+    s.add_argument("--level", type=int, default=0, help="OME-Zarr stores: multiscale level (first run only; default 0)")
     s.add_argument("--sbatch-arg", action="append", default=[], help="extra sbatch options, e.g. --partition=x")
     s.add_argument("--wait", action="store_true", help="block until the merge job ends; exit with its status")
     s.set_defaults(run=submit)

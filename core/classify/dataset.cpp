@@ -50,7 +50,9 @@ std::vector<DatasetItem> list_class_directories(const fs::path& root) {
   for (const auto& d : dirs) {
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(d))
-      if (e.is_regular_file() && (is_mesh_file_name(e.path()) || is_volume_file_name(e.path()))) files.push_back(e.path());
+      if ((e.is_regular_file() && (is_mesh_file_name(e.path()) || is_volume_file_name(e.path()))) ||
+          is_zarr_directory(e.path()))  // an OME-Zarr store is a directory
+        files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files) items.push_back({f.string(), d.filename().string(), {}});
   }

@@ -28,7 +28,8 @@ struct DatasetItem {
 };
 
 // Files a class folder may hold as training inputs, by name: meshes (.obj .ply .off .stl, any case) and label
-// volumes (core/io/volume_io.hpp is_volume_file_name: .nii .nii.gz .tif .tiff). The content decides the format
+// volumes (core/io/volume_io.hpp is_volume_file_name: .nii .nii.gz .tif .tiff .zarr.zip, and OME-Zarr store
+// directories). The content decides the format
 // later; other files (README, CSV) are ignored.
 bool is_mesh_file_name(const std::filesystem::path& path);
 

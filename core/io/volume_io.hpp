@@ -1,16 +1,20 @@
 #pragma once
-// Reading label volumes: NIfTI-1 (.nii, and .nii.gz through zlib) and TIFF stacks (multi-page, through libtiff).
+// Reading label volumes: NIfTI-1 (.nii, and .nii.gz through zlib), TIFF stacks (multi-page, through libtiff) and
+// OME-Zarr label images (NGFF 0.4 on zarr v2: a store directory, or its zip in zarr's ZipStore layout; core/io/zarr_*).
 // As with meshes, readers work on bytes (uploads arrive as bytes), detect the format from the content, check every
 // limit *before* allocating, and report the first problem as a typed error:
 //   code "parse_error"          malformed header or data        details: format, field / byte_offset
 //   code "unsupported_datatype" a voxel type that is not a label details: format, datatype
 //   code "invalid_label"        negative, non-integer or non-finite value, or above 2^32 - 1  details: voxel, value
 //   code "limit_exceeded"       (LimitExceededError)            details: limit, value, allowed
-//   code "unsupported_format"   (category UnsupportedFormat)    neither NIfTI-1 nor TIFF
-// Supported voxel types: uint8, int8, int16, uint16, int32, uint32, float32, float64 (floats hold integers: label
-// images are sometimes stored as floats; or they are a probability map, values in [0, 1] not all integers, held as
-// fixed point: LabelImage::probability_scale). NIfTI's scl_slope / scl_inter are ignored (a label is a name, not a
-// measurement) and noted when they are not the identity.
+//   code "unsupported_format"   (category UnsupportedFormat)    neither NIfTI-1, TIFF nor an OME-Zarr zip; or a zarr
+//                               compressor / filter / format version this reader does not decode
+//   code "invalid_volume"       OME-Zarr axes that are not three space axes (+ size-1 others), a missing array
+//   code "invalid_parameter"    OME-Zarr --label-image names no label image, --level no multiscale level
+// Supported voxel types: uint8, int8, int16, uint16, int32, uint32, int64, uint64 (OME-Zarr), float32, float64 (floats
+// hold integers: label images are sometimes stored as floats; or they are a probability map, values in [0, 1] not all
+// integers, held as fixed point: LabelImage::probability_scale). NIfTI's scl_slope / scl_inter are ignored (a label
+// is a name, not a measurement) and noted when they are not the identity.
 // Spacing: NIfTI pixdim[1..3] with xyzt_units; TIFF X/YResolution with ResolutionUnit, ImageJ's ImageDescription
 // (`unit=`, `spacing=` for z) or OME-XML's PhysicalSize{X,Y,Z}[Unit]. `spacing_override` / `unit_override` replace
 // what the file says (UroCell's NIfTI headers say 1 mm; the true voxel is 16 x 16 x 15 nm).
@@ -28,7 +32,7 @@
 
 namespace wish {
 
-enum class VolumeFormat { Unknown, Nifti, Tiff };
+enum class VolumeFormat { Unknown, Nifti, Tiff, OmeZarr };
 const char* to_string(VolumeFormat format);
 
 struct VolumeReadLimits {
@@ -41,6 +45,10 @@ struct VolumeReadOptions {
   VolumeReadLimits limits;
   std::optional<Eigen::Vector3d> spacing_override;  // x, y, z voxel size; each > 0 and finite
   std::optional<std::string> unit_override;
+  // OME-Zarr only: which label image of an image's labels/ group (empty: the first listed) and which multiscale level
+  // (0: full resolution).
+  std::string zarr_labels;
+  int zarr_level = 0;
 };
 
 struct VolumeReadResult {
@@ -51,15 +59,26 @@ struct VolumeReadResult {
   std::vector<std::string> notes;   // what was ignored or assumed, one sentence each
 };
 
-// NIfTI-1 (magic "n+1" at byte 344, either byte order, gzip-wrapped or not) or TIFF ("II*\0" / "MM\0*").
+// NIfTI-1 (magic "n+1" at byte 344, either byte order, gzip-wrapped or not), TIFF ("II*\0" / "MM\0*") or a zip
+// holding zarr metadata (.zgroup / .zattrs / .zarray): an OME-Zarr store as zarr's ZipStore writes it.
 VolumeFormat detect_volume_format(std::string_view bytes);
 // True when the bytes start like a volume (gzip magic or one of the above): lets a caller route uploads.
 bool looks_like_volume(std::string_view bytes);
 
 VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& options = {});
+// A file (read whole) or an OME-Zarr store directory (read_zarr_directory).
 VolumeReadResult read_volume_file(const std::filesystem::path& path, const VolumeReadOptions& options = {});
-// True for names ending .nii, .nii.gz, .tif, .tiff (case-insensitive).
+// True for names ending .nii, .nii.gz, .tif, .tiff, .zarr.zip (case-insensitive), and for zarr store directories.
 bool is_volume_file_name(const std::filesystem::path& path);
+
+// True when `path` is a directory holding zarr metadata (.zgroup, .zattrs or .zarray): a zarr store on disk.
+bool is_zarr_directory(const std::filesystem::path& path);
+// The OME-Zarr store directory as the bytes of its ZipStore zip (entries stored, not recompressed), holding only what
+// the read needs: the metadata on the way to the chosen label image and level, and that level's chunks. The CLI
+// sends these bytes down the same path as an HTTP upload of the store's zip. Checks max_bytes while collecting.
+std::string read_zarr_directory(const std::filesystem::path& path, const VolumeReadOptions& options = {});
+// The bytes of a volume input named on a command line: a zarr store directory as above, else the file's content.
+std::string read_volume_input(const std::filesystem::path& path, const VolumeReadOptions& options = {});
 
 // Writes a NIfTI-1 single file (little endian, uint8 / int16 / uint16 / int32 / uint32 / float32 / float64 by
 // `datatype` name; a probability map as float32 / float64 probabilities), gzip-compressed when `gzip`. For tests, round trips and exporting cleaned label images.

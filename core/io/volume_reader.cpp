@@ -14,6 +14,7 @@ const char* to_string(VolumeFormat format) {
   switch (format) {
     case VolumeFormat::Nifti: return "nifti";
     case VolumeFormat::Tiff: return "tiff";
+    case VolumeFormat::OmeZarr: return "ome-zarr";
     default: return "unknown";
   }
 }
@@ -32,6 +33,7 @@ VolumeFormat detect_volume_format(std::string_view bytes) {
   if (is_gzip(bytes)) return VolumeFormat::Nifti;  // the only gzip-wrapped volume we read; the reader checks the magic
   if (is_tiff(bytes)) return VolumeFormat::Tiff;
   if (is_nifti(bytes)) return VolumeFormat::Nifti;
+  if (io_detail::is_zarr_zip(bytes)) return VolumeFormat::OmeZarr;
   return VolumeFormat::Unknown;
 }
 
@@ -40,9 +42,9 @@ bool looks_like_volume(std::string_view bytes) { return detect_volume_format(byt
 bool is_volume_file_name(const std::filesystem::path& path) {
   std::string name = path.filename().string();
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const char* ext : {".nii", ".nii.gz", ".tif", ".tiff"})
+  for (const char* ext : {".nii", ".nii.gz", ".tif", ".tiff", ".zarr.zip"})
     if (name.size() > std::strlen(ext) && name.ends_with(ext)) return true;
-  return false;
+  return is_zarr_directory(path);
 }
 
 VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& options) {
@@ -55,10 +57,13 @@ VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& op
   const VolumeFormat format = detect_volume_format(bytes);
   if (format == VolumeFormat::Unknown)
     throw WishError(ErrorCategory::UnsupportedFormat, "unsupported_format",
-                    "not a label volume: neither NIfTI-1 (.nii, .nii.gz) nor TIFF", {});
+                    "not a label volume: neither NIfTI-1 (.nii, .nii.gz), TIFF nor an OME-Zarr store's zip", {});
   auto read = [&](bool probabilities) {
-    return format == VolumeFormat::Nifti ? io_detail::read_nifti(bytes, options.limits, probabilities)
-                                         : io_detail::read_tiff(bytes, options.limits, probabilities);
+    switch (format) {
+      case VolumeFormat::Nifti: return io_detail::read_nifti(bytes, options.limits, probabilities);
+      case VolumeFormat::Tiff: return io_detail::read_tiff(bytes, options.limits, probabilities);
+      default: return io_detail::read_zarr_zip(bytes, options, probabilities);
+    }
   };
   try {
     result = read(false);
@@ -84,6 +89,7 @@ VolumeReadResult read_volume(std::string_view bytes, const VolumeReadOptions& op
 }
 
 VolumeReadResult read_volume_file(const std::filesystem::path& path, const VolumeReadOptions& options) {
+  if (is_zarr_directory(path)) return read_volume(read_zarr_directory(path, options), options);
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw IoError("file_not_found", "cannot read " + path.string() + ": " + ec.message(), {{"path", path.string()}});
@@ -109,6 +115,8 @@ const char* to_string(VoxelType t) {
     case VoxelType::UInt16: return "uint16";
     case VoxelType::Int32: return "int32";
     case VoxelType::UInt32: return "uint32";
+    case VoxelType::Int64: return "int64";
+    case VoxelType::UInt64: return "uint64";
     case VoxelType::Float32: return "float32";
     case VoxelType::Float64: return "float64";
   }
@@ -120,7 +128,7 @@ int byte_size(VoxelType t) {
     case VoxelType::UInt8: case VoxelType::Int8: return 1;
     case VoxelType::Int16: case VoxelType::UInt16: return 2;
     case VoxelType::Int32: case VoxelType::UInt32: case VoxelType::Float32: return 4;
-    case VoxelType::Float64: return 8;
+    case VoxelType::Int64: case VoxelType::UInt64: case VoxelType::Float64: return 8;
   }
   return 1;
 }
@@ -171,6 +179,9 @@ void convert(const unsigned char* data, std::int64_t count, bool swap, std::uint
     } else {
       if constexpr (std::is_signed_v<T>)
         if (v < 0) bad_label(first + i, static_cast<double>(v), format, "negative");
+      if constexpr (sizeof(T) > 4)  // 64-bit labels (OME-Zarr's usual int64 / uint64) must fit in 32 bits
+        if (static_cast<std::uint64_t>(v) > std::numeric_limits<std::uint32_t>::max())
+          bad_label(first + i, static_cast<double>(v), format, "above 2^32 - 1");
       out[i] = static_cast<std::uint32_t>(v);
     }
   }
@@ -187,6 +198,8 @@ void convert_labels(const unsigned char* data, std::int64_t count, VoxelType typ
     case VoxelType::UInt16: convert<std::uint16_t>(data, count, swap, out, first_voxel, format, 0); break;
     case VoxelType::Int32: convert<std::int32_t>(data, count, swap, out, first_voxel, format, 0); break;
     case VoxelType::UInt32: convert<std::uint32_t>(data, count, swap, out, first_voxel, format, 0); break;
+    case VoxelType::Int64: convert<std::int64_t>(data, count, swap, out, first_voxel, format, 0); break;
+    case VoxelType::UInt64: convert<std::uint64_t>(data, count, swap, out, first_voxel, format, 0); break;
     case VoxelType::Float32: convert<float>(data, count, swap, out, first_voxel, format, probability_scale); break;
     case VoxelType::Float64: convert<double>(data, count, swap, out, first_voxel, format, probability_scale); break;
   }

@@ -15,8 +15,12 @@ namespace wish::io_detail {
 // set by read_volume when the first reading found a non-integer float (ProbabilityValuesFound).
 VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limits, bool probabilities = false);
 VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limits, bool probabilities = false);
+// `probabilities` as above (a float zarr array of values in [0, 1]).
+VolumeReadResult read_zarr_zip(std::string_view bytes, const VolumeReadOptions& options,
+                               bool probabilities = false);  // zarr_reader.cpp
+bool is_zarr_zip(std::string_view bytes);                    // zarr_store.cpp
 
-enum class VoxelType { UInt8, Int8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+enum class VoxelType { UInt8, Int8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64 };
 const char* to_string(VoxelType type);
 int byte_size(VoxelType type);
 

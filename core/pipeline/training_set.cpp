@@ -114,7 +114,9 @@ ItemDescriber recipe_describer(const DescriptorRecipe& recipe, const TrainingDes
   PipelineOptions po = options_for_recipe(recipe, options.base);
   po.compute_global_features = true;  // for the feature family comparison
   return [recipe, po, options](const DatasetItem& item) {
-    const std::string bytes = read_input_file(item.path);
+    // A zarr store directory arrives as its zip (core/io/volume_io.hpp read_volume_input), like an upload.
+    const std::string bytes = is_zarr_directory(item.path) ? read_zarr_directory(item.path, options.volume.read)
+                                                           : read_input_file(item.path);
     if (detect_volume_format(bytes) != VolumeFormat::Unknown)  // by content, not by name
       return describe_volume_item(item, bytes, recipe, po, options.volume);
     if (!item.object_labels.empty())

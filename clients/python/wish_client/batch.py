@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from .client import VOLUME_EXTENSIONS, VOLUME_PARAMETERS, ClassifyResult, WishClient, is_volume_name
+from .client import VOLUME_EXTENSIONS, VOLUME_PARAMETERS, ClassifyResult, WishClient, is_volume_name, is_zarr_store
 from .errors import WishClientError, WishConnectionError, WishInputError, WishServerError
 
 #: File extensions taken when a folder is expanded (case-insensitive). Files named explicitly are always taken.
@@ -73,9 +73,13 @@ def expand_paths(paths: Iterable[str | os.PathLike], extensions: Sequence[str] =
 
     for raw in paths:
         p = Path(raw)
-        if p.is_dir():
+        if is_zarr_store(p):  # an OME-Zarr store is one volume, not a folder of inputs
+            add(str(p))
+        elif p.is_dir():
             for root, dirs, files in os.walk(p):
-                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+                for d in sorted(d for d in dirs if is_zarr_store(os.path.join(root, d))):
+                    add(os.path.join(root, d))
+                dirs[:] = sorted(d for d in dirs if not d.startswith(".") and not is_zarr_store(os.path.join(root, d)))
                 for name in sorted(files):
                     if not name.startswith(".") and name.lower().endswith(exts):
                         add(os.path.join(root, name))

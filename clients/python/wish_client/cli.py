@@ -57,7 +57,7 @@ def _label_ids(text: str) -> list[int]:
 def _volume_params(args: argparse.Namespace) -> dict[str, Any]:
     return volume_query(spacing=args.spacing, unit=args.unit, objects=args.objects, min_voxels=args.min_voxels,
                         drop_truncated=True if args.drop_truncated else None, labels=args.labels,
-                        threshold=args.threshold)
+                        threshold=args.threshold, label_image=args.label_image, level=args.level)
 
 
 def _add_server_args(p: argparse.ArgumentParser) -> None:
@@ -105,6 +105,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="mask with soft edges / probability map: foreground is value >= T (server default: half its maximum)")
     v.add_argument("--drop-truncated", action="store_true", help="drop objects touching the volume border")
     v.add_argument("--labels", type=_label_ids, metavar="ID,ID,...", help="only these label ids")
+    v.add_argument("--label-image", metavar="NAME", help="OME-Zarr: label image labels/NAME (default: first)")
+    v.add_argument("--level", type=int, metavar="N", help="OME-Zarr stores: multiscale level (default 0)")
     c.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     c.add_argument("--summary-json", action="store_true", help="print the summary as JSON instead of text")
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import email.utils
 import http.client
+import io
 import json
 import os
 import random
@@ -24,6 +25,7 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
+import zipfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,23 +41,55 @@ MeshInput = Union[str, os.PathLike, bytes, tuple[str, bytes]]
 
 _FORMATS = ("obj", "ply", "off", "stl")  # the `format` hint of a raw body (proto: components/parameters/format)
 
-#: Label volume files (NIfTI-1, TIFF stacks); the server detects them from the content. Volume options
-#: (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated, labels, threshold) mirror
-#: ``wish mesh-labels``.
-VOLUME_EXTENSIONS = (".nii", ".nii.gz", ".tif", ".tiff")
-VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "threshold")
+#: Label volume files (NIfTI-1, TIFF stacks, OME-Zarr stores as a directory or their zip); the server detects them
+#: from the content. Volume options (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated,
+#: labels, threshold, label_image, level) mirror ``wish mesh-labels``.
+VOLUME_EXTENSIONS = (".nii", ".nii.gz", ".tif", ".tiff", ".zarr.zip")
+VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "threshold", "label_image",
+                     "level")
+_ZARR_METADATA = (".zgroup", ".zattrs", ".zarray")
+
+
+def is_zarr_store(path: str | os.PathLike) -> bool:
+    """True for a directory holding zarr metadata (.zgroup, .zattrs or .zarray): a zarr v2 store on disk."""
+    p = Path(path)
+    return p.is_dir() and any((p / m).is_file() for m in _ZARR_METADATA)
 
 
 def is_volume_name(name: str | os.PathLike) -> bool:
-    """True for names ending .nii, .nii.gz, .tif, .tiff (case-insensitive)."""
-    return str(name).lower().endswith(VOLUME_EXTENSIONS)
+    """True for names ending .nii, .nii.gz, .tif, .tiff, .zarr.zip (case-insensitive) and for zarr store directories."""
+    return str(name).lower().endswith(VOLUME_EXTENSIONS) or is_zarr_store(name)
+
+
+def zip_zarr_store(path: str | os.PathLike) -> bytes:
+    """The zip of a zarr store directory as the server reads it (zarr's ZipStore layout: the store's keys are the
+    entry names, stored uncompressed — the chunks are compressed already). For an image with a ``labels/`` group only
+    the metadata and ``labels/`` go in: the image's own arrays are not needed to read its labels."""
+    root = Path(path)
+    has_labels = (root / "labels" / ".zattrs").is_file()
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", compression=zipfile.ZIP_STORED) as z:
+        for dirpath, dirnames, filenames in os.walk(root):
+            dirnames.sort()
+            rel_dir = Path(dirpath).relative_to(root)
+            for name in sorted(filenames):
+                key = (rel_dir / name).as_posix()
+                if has_labels and rel_dir.parts and rel_dir.parts[0] != "labels":
+                    continue  # the image's own arrays
+                if has_labels and not rel_dir.parts and name not in _ZARR_METADATA:
+                    continue
+                z.write(os.path.join(dirpath, name), key)
+    return buffer.getvalue()
 
 
 def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None = None, objects: str | None = None,
                  min_voxels: int | None = None, drop_truncated: bool | str | None = None,
-                 labels: Sequence[int] | str | None = None, threshold: float | str | None = None) -> dict[str, Any]:
+                 labels: Sequence[int] | str | None = None, threshold: float | str | None = None,
+                 label_image: str | None = None,
+                 level: int | None = None) -> dict[str, Any]:
     """The query parameters of a volume upload (``None``: the server's default). ``spacing`` and ``labels`` may
-    also be given already encoded ("1,1,2", "3,7")."""
+    also be given already encoded ("1,1,2", "3,7"). ``label_image`` and ``level`` choose an OME-Zarr store's label
+    image (labels/NAME; default the first listed) and multiscale level (default 0)."""
     q: dict[str, Any] = {}
     if isinstance(spacing, str):
         q["spacing"] = spacing
@@ -79,6 +113,10 @@ def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None 
         q["labels"] = ",".join(str(int(v)) for v in labels)
     if threshold is not None:
         q["threshold"] = threshold if isinstance(threshold, str) else repr(float(threshold))
+    if label_image is not None:
+        q["label_image"] = label_image
+    if level is not None:
+        q["level"] = int(level)
     return q
 
 
@@ -233,6 +271,8 @@ def _mesh_name_and_bytes(mesh: MeshInput) -> tuple[str, bytes]:
         name, content = mesh
         return str(name), bytes(content)
     path = Path(mesh)
+    if is_zarr_store(path):  # an OME-Zarr store directory travels as its zip
+        return path.name, zip_zarr_store(path)
     try:
         return path.name, path.read_bytes()
     except OSError as e:
@@ -417,27 +457,35 @@ class WishClient:
     def classify_volume(self, volume: MeshInput, *, model: str | None = None, spacing: Sequence[float] | None = None,
                         unit: str | None = None, objects: str | None = None, min_voxels: int | None = None,
                         drop_truncated: bool | None = None, labels: Sequence[int] | None = None,
-                        threshold: float | None = None, **params: Any) -> VolumeResult:
-        """Classifies every object of a label volume (NIfTI-1 .nii / .nii.gz, TIFF stack) in one request.
+                        threshold: float | None = None, label_image: str | None = None, level: int | None = None,
+                        **params: Any
+                        ) -> VolumeResult:
+        """Classifies every object of a label volume (NIfTI-1 .nii / .nii.gz, TIFF stack, OME-Zarr store directory
+        or its zip) in one request.
 
         The volume options mirror ``wish mesh-labels``: ``spacing`` (x, y, z voxel size, overriding the file's),
         ``unit``, ``objects`` (``labels`` / ``components`` / ``auto``), ``min_voxels``, ``drop_truncated``,
         ``labels`` (a subset of label ids), ``threshold`` (a mask with soft edges or a probability map: foreground
-        is value >= threshold; default half its maximum; ``volume["input"]`` says what was decided). An object that cannot be classified carries its own error, whatever
+        is value >= threshold; default half its maximum; ``volume["input"]`` says what was decided), ``label_image`` and
+        ``level`` (an OME-Zarr store: labels/NAME, multiscale level). An object that cannot be classified carries its
+        own error, whatever
         the answer's status (200 all classified, 207 some refused, the common 4xx when all were: proto
         VolumeResult); a volume that fails as a whole raises :class:`WishServerError` — unreadable, past the time
         limit, or with no object left after the filters (422 ``no_objects``, its counts in ``details``).
         """
-        query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold),
-                 **params}
+        query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold,
+                                                label_image, level), **params}
         return self._post_volume("/v1/classify", volume, query, classify=True)
 
     def describe_volume(self, volume: MeshInput, *, spacing: Sequence[float] | None = None, unit: str | None = None,
                         objects: str | None = None, min_voxels: int | None = None,
                         drop_truncated: bool | None = None, labels: Sequence[int] | None = None,
-                        threshold: float | None = None, **params: Any) -> VolumeResult:
+                        threshold: float | None = None, label_image: str | None = None, level: int | None = None,
+                        **params: Any
+                        ) -> VolumeResult:
         """SH descriptor of every object of a label volume; same options as :meth:`classify_volume`."""
-        query = {**volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold), **params}
+        query = {**volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold, label_image,
+                                level), **params}
         return self._post_volume("/v1/describe", volume, query, classify=False)
 
     def _post_volume(self, path: str, volume: MeshInput, query: dict[str, Any], classify: bool) -> VolumeResult:
