@@ -57,7 +57,7 @@ ZarrArrayPlan plan_zarr_read(const ZarrStore& store, const VolumeReadOptions& op
 
 // The label image the metadata chooses, read chunk by chunk (zarr_reader.cpp); spacing / unit overrides are the
 // caller's (read_volume).
-VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& options);
+VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& options, bool probabilities = false);
 
 // Largest metadata document read (.zattrs, .zgroup, .zarray): larger ones are refused, not parsed.
 inline constexpr std::uint64_t kMaxZarrMetadataBytes = 1u << 20;

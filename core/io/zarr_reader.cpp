@@ -27,7 +27,7 @@ std::uint32_t fill_label(const ZarrArrayPlan& plan) {
 
 }  // namespace
 
-VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& options) {
+VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& options, bool probabilities) {
   const ZarrArrayPlan plan = plan_zarr_read(store, options);
   const std::size_t ndim = plan.shape.size();
   VolumeReadResult r;
@@ -39,6 +39,7 @@ VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& opti
   r.image.unit = plan.unit;
   r.spacing_from_file = plan.spacing_from_file;
   r.image.labels.assign(static_cast<std::size_t>(r.image.voxel_count()), 0);
+  if (probabilities) r.image.probability_scale = volume::LabelImage::kProbabilityScale;
 
   // Strides: within a decoded chunk (in elements) and in the output image (0 for the squeezed axes).
   std::vector<std::int64_t> chunk_stride(ndim, 1), out_stride(ndim, 0), grid(ndim, 1);
@@ -87,7 +88,7 @@ VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& opti
         const std::int64_t len = extent[inner];
         if (encoded)
           convert_labels(reinterpret_cast<const unsigned char*>(decoded.data()) + src * static_cast<std::int64_t>(item), len,
-                         plan.type, plan.swap, run.data(), src, where.c_str());
+                         plan.type, plan.swap, run.data(), src, where.c_str(), r.image.probability_scale);
         else
           std::fill(run.begin(), run.begin() + len, fill);
         const std::int64_t step = out_stride[inner];
@@ -111,9 +112,9 @@ VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& opti
   return r;
 }
 
-VolumeReadResult read_zarr_zip(std::string_view bytes, const VolumeReadOptions& options) {
+VolumeReadResult read_zarr_zip(std::string_view bytes, const VolumeReadOptions& options, bool probabilities) {
   const ZipZarrStore store(bytes);
-  return read_zarr(store, options);
+  return read_zarr(store, options, probabilities);
 }
 
 }  // namespace io_detail
