@@ -181,6 +181,22 @@ TEST(MeshReport, TwinVerticesOfATriangleSoupAreCollapsedWhenTheWeldedSurfaceIsCl
   EXPECT_EQ(p.report.genus, std::optional<std::int64_t>(0));
 }
 
+TEST(MeshReport, TwinWhoseCollapseWouldPinchTheSurfaceIsLeftUnwelded) {
+  // Triangular bipyramid (equator A, B, C; apexes P, Q) with B at exactly A's position: the zero-length edge A-B has
+  // a third common neighbour C outside its two faces, so collapsing it would give the edge A-C four faces. Welding
+  // is refused (it would make the surface non-manifold) and the closed input stays as it is: its two zero-area
+  // faces are accepted, nothing is collapsed.
+  const Mesh m = make({{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {0.3, 0.3, 1}, {0.3, 0.3, -1}},
+                      {{3, 0, 1}, {3, 1, 2}, {3, 2, 0}, {4, 1, 0}, {4, 2, 1}, {4, 0, 2}});
+  ASSERT_EQ(analyze_mesh(m).genus, std::optional<std::int64_t>(0));
+  ASSERT_EQ(analyze_mesh(m).zero_area_faces, 2);
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(repair(p, "welded_duplicate_vertices"), nullptr);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_EQ(p.mesh.vertex_count(), 5);
+  EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+}
+
 TEST(MeshReport, FacesThatWeldingMakesDegenerateOnAnOpenSurfaceStayRefused) {
   // A triangle plus a zero-area face on a twin of its corner 0: the collapse would leave an open single triangle,
   // which is no closed surface, so nothing is collapsed and the face repeating a vertex is refused as before.
