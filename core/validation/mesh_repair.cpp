@@ -117,6 +117,32 @@ bool closed_manifold_connected(const MeshReport& r) {
   return r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.nonmanifold_vertices == 0 && r.components == 1;
 }
 
+// Faces that already repeat a vertex as read: an STL file has no vertex identity, so its reader welds corners by
+// position and a twin vertex arrives welded, its two zero-area faces as faces (v, v, a). Drops them; `edges` counts
+// the distinct repeated vertices (one per collapsed edge of a twin).
+EdgeCollapse drop_faces_repeating_a_vertex(Mesh& mesh) {
+  EdgeCollapse out;
+  std::unordered_set<int> repeated;
+  std::vector<Eigen::Index> kept;
+  kept.reserve(static_cast<std::size_t>(mesh.face_count()));
+  for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
+    const int a = mesh.faces(f, 0), b = mesh.faces(f, 1), c = mesh.faces(f, 2);
+    if (a != b && b != c && c != a) {
+      kept.push_back(f);
+      continue;
+    }
+    ++out.faces;
+    repeated.insert(a == b || a == c ? a : b);
+  }
+  out.edges = static_cast<std::int64_t>(repeated.size());
+  if (out.faces > 0) {
+    Eigen::MatrixX3i faces(static_cast<Eigen::Index>(kept.size()), 3);
+    for (std::size_t i = 0; i < kept.size(); ++i) faces.row(static_cast<Eigen::Index>(i)) = mesh.faces.row(kept[i]);
+    mesh.faces = std::move(faces);
+  }
+  return out;
+}
+
 // Removes faces equal to an earlier one up to rotation (a b c ~ b c a). Opposite copies (a c b) are not harmless
 // duplicates but a two-sided sheet; they stay and show up as non-manifold edges.
 std::int64_t remove_duplicate_faces(Mesh& mesh) {
@@ -218,6 +244,23 @@ PreparedMesh prepare_for_mapping(Mesh mesh, const RepairOptions& options) {
                                          plural(collapse.faces, "zero-area face", "zero-area faces") + " that welding turned into faces repeating a vertex",
                                      collapse.edges});
           }
+        }
+      }
+    }
+    if (options.weld_duplicate_vertices) {
+      // Faces that repeated a vertex as read (STL: welded by the reader) are the same zero-area faces of a welded
+      // twin; they are dropped when the rest is a closed, manifold, connected surface using every vertex. No Euler
+      // baseline exists here (the input's faces already were welded), and none is needed: validation judges the
+      // surface without them either way — dropping them only removes a face that has no area and no edges.
+      Mesh collapsed = mesh;
+      if (const EdgeCollapse c = drop_faces_repeating_a_vertex(collapsed); c.faces > 0) {
+        const MeshReport r = analyze_mesh(collapsed);
+        if (closed_manifold_connected(r) && r.unreferenced_vertices == 0) {
+          mesh = std::move(collapsed);
+          out.repairs.push_back({"collapsed_zero_length_edges",
+                                 "dropped " + plural(c.faces, "face", "faces") + " repeating a vertex (welded as read: " +
+                                     plural(c.edges, "collapsed zero-length edge", "collapsed zero-length edges") + ")",
+                                 c.edges});
         }
       }
     }

@@ -181,6 +181,20 @@ TEST(MeshReport, TwinVerticesOfATriangleSoupAreCollapsedWhenTheWeldedSurfaceIsCl
   EXPECT_EQ(p.report.genus, std::optional<std::int64_t>(0));
 }
 
+TEST(MeshReport, TwinVertexReadFromStlIsCollapsedByDefault) {
+  // STL has no vertex identity: the reader welds corners by position, so the twin arrives welded and its two
+  // zero-area faces as faces repeating a vertex. The default repairs drop them: the tetrahedron again.
+  const ReadResult read = read_mesh(write_mesh(tetrahedron_with_twin_vertex(), MeshFormat::Stl, MeshEncoding::Ascii));
+  ASSERT_EQ(read.mesh.vertex_count(), 4);  // welded by the reader
+  ASSERT_EQ(analyze_mesh(read.mesh).degenerate_faces - analyze_mesh(read.mesh).zero_area_faces, 2);
+  const PreparedMesh p = prepare_for_mapping(read.mesh);
+  EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+  ASSERT_NE(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges")->count, 1);
+  EXPECT_EQ(p.mesh.face_count(), 4);
+  EXPECT_EQ(p.report.genus, std::optional<std::int64_t>(0));
+}
+
 TEST(MeshReport, TwinWhoseCollapseWouldPinchTheSurfaceIsLeftUnwelded) {
   // Triangular bipyramid (equator A, B, C; apexes P, Q) with B at exactly A's position: the zero-length edge A-B has
   // a third common neighbour C outside its two faces, so collapsing it would give the edge A-C four faces. Welding
