@@ -17,7 +17,7 @@ constexpr std::array kCodes{
     ErrorCodeInfo{"box_too_large", C::TooLarge, 0, "a label-volume object's bounding box exceeds the voxel limit"},
     ErrorCodeInfo{"cancelled", C::Unavailable, 0, "the request was cancelled (client gone or server draining)"},
     ErrorCodeInfo{"decimation_failed", C::Internal, 0, "the decimater could not reduce an object surface"},
-    ErrorCodeInfo{"degenerate_faces", C::Unmappable, 0, "faces repeat a vertex (zero-area faces alone are accepted)"},
+    ErrorCodeInfo{"degenerate_faces", C::Unmappable, 0, "faces repeat a vertex (zero-area faces alone are accepted; those that welding a twin vertex turns into repeats are dropped when the edge collapse is safe)"},
     ErrorCodeInfo{"degenerate_mesh", C::InvalidInput, 0, "the mesh has zero total area"},
     ErrorCodeInfo{"descriptor_mismatch", C::InvalidInput, 0, "a descriptor does not fit the model (length, Lmax)"},
     ErrorCodeInfo{"empty_mesh", C::InvalidInput, 0, "the file holds no vertices or no faces"},

@@ -2,13 +2,18 @@
 // remaining reason the mesh cannot be mapped into a ValidationIssue.
 //
 // Repair order matters: unreferenced vertices are dropped first so that welding counts only vertices in use; welding
-// can create duplicate faces, so duplicates are removed after it; orientation is judged last, on the final faces.
+// can turn zero-area faces into faces repeating a vertex, which the edge collapse right after it drops; welding can
+// create duplicate faces, so duplicates are removed after it; orientation is judged last, on the final faces.
+//
+// Repair codes (RepairAction::code): dropped_unreferenced_vertices, welded_duplicate_vertices,
+// collapsed_zero_length_edges, removed_duplicate_faces, flipped_orientation.
 #include <algorithm>
 #include <array>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "core/validation/mesh_report.hpp"
+#include "core/validation/edge_topology.hpp"
 #include "core/validation/position_key.hpp"
 
 namespace wish {
@@ -67,6 +72,75 @@ std::int64_t weld_duplicates(Mesh& mesh) {
   for (Eigen::Index f = 0; f < mesh.face_count(); ++f)
     for (int k = 0; k < 3; ++k) mesh.faces(f, k) = target[static_cast<std::size_t>(mesh.faces(f, k))];
   return compact_vertices(mesh, keep);
+}
+
+// Welding keeps the face rows, so face f of `welded` is face f of `original` with welded corners. A face whose corners
+// were distinct and now repeat one had two corners at exactly the same position: zero area, and a zero-length edge
+// between them (the twin vertex of real segmentations: a vertex duplicated at its neighbour's position, with the two
+// zero-area faces that the twin makes). Dropping those faces completes the collapse of that edge.
+struct EdgeCollapse {
+  std::int64_t edges = 0;  // distinct zero-length edges (p, q) of the input that welding collapsed
+  std::int64_t faces = 0;  // faces dropped
+};
+
+EdgeCollapse drop_faces_made_degenerate(const Mesh& original, Mesh& welded) {
+  EdgeCollapse out;
+  std::unordered_set<std::array<int, 3>, validation_detail::TripleHash> collapsed_edges;
+  std::vector<Eigen::Index> kept;
+  kept.reserve(static_cast<std::size_t>(welded.face_count()));
+  const Eigen::Index nv = original.vertex_count();
+  for (Eigen::Index f = 0; f < welded.face_count(); ++f) {
+    const bool was_proper = validation_detail::is_proper_face(original.faces, f, nv);
+    const bool is_proper = validation_detail::is_proper_face(welded.faces, f, welded.vertex_count());
+    if (!was_proper || is_proper) {
+      kept.push_back(f);
+      continue;
+    }
+    ++out.faces;
+    for (int k = 0; k < 3; ++k) {
+      const int l = (k + 1) % 3;
+      if (welded.faces(f, k) != welded.faces(f, l)) continue;
+      const int p = original.faces(f, k), q = original.faces(f, l);
+      collapsed_edges.insert({std::min(p, q), std::max(p, q), 0});
+    }
+  }
+  out.edges = static_cast<std::int64_t>(collapsed_edges.size());
+  if (out.faces > 0) {
+    Eigen::MatrixX3i faces(static_cast<Eigen::Index>(kept.size()), 3);
+    for (std::size_t i = 0; i < kept.size(); ++i) faces.row(static_cast<Eigen::Index>(i)) = welded.faces.row(kept[i]);
+    welded.faces = std::move(faces);
+  }
+  return out;
+}
+
+bool closed_manifold_connected(const MeshReport& r) {
+  return r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.nonmanifold_vertices == 0 && r.components == 1;
+}
+
+// Faces that already repeat a vertex as read: an STL file has no vertex identity, so its reader welds corners by
+// position and a twin vertex arrives welded, its two zero-area faces as faces (v, v, a). Drops them; `edges` counts
+// the distinct repeated vertices (one per collapsed edge of a twin).
+EdgeCollapse drop_faces_repeating_a_vertex(Mesh& mesh) {
+  EdgeCollapse out;
+  std::unordered_set<int> repeated;
+  std::vector<Eigen::Index> kept;
+  kept.reserve(static_cast<std::size_t>(mesh.face_count()));
+  for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
+    const int a = mesh.faces(f, 0), b = mesh.faces(f, 1), c = mesh.faces(f, 2);
+    if (a != b && b != c && c != a) {
+      kept.push_back(f);
+      continue;
+    }
+    ++out.faces;
+    repeated.insert(a == b || a == c ? a : b);
+  }
+  out.edges = static_cast<std::int64_t>(repeated.size());
+  if (out.faces > 0) {
+    Eigen::MatrixX3i faces(static_cast<Eigen::Index>(kept.size()), 3);
+    for (std::size_t i = 0; i < kept.size(); ++i) faces.row(static_cast<Eigen::Index>(i)) = mesh.faces.row(kept[i]);
+    mesh.faces = std::move(faces);
+  }
+  return out;
 }
 
 // Removes faces equal to an earlier one up to rotation (a b c ~ b c a). Opposite copies (a c b) are not harmless
@@ -141,8 +215,52 @@ PreparedMesh prepare_for_mapping(Mesh mesh, const RepairOptions& options) {
       if (const auto n = weld_duplicates(welded); n > 0) {
         const MeshReport before = analyze_mesh(mesh), after = analyze_mesh(welded);
         if (after.nonmanifold_edges <= before.nonmanifold_edges && after.nonmanifold_vertices <= before.nonmanifold_vertices) {
-          mesh = std::move(welded);
-          out.repairs.push_back({"welded_duplicate_vertices", "welded " + plural(n, "vertex", "vertices") + " into earlier vertices at exactly the same position", n});
+          // Welding a twin vertex turns its zero-area faces into faces repeating a vertex; dropping them collapses
+          // the zero-length edge. The collapse is kept only when the surface stays closed, manifold, connected
+          // and (when the input was already such a surface, i.e. welding did not close seams) keeps its Euler
+          // characteristic — the collapse changed no topology. Otherwise the input is kept unwelded when it is
+          // such a surface by itself (its zero-area faces are accepted), else welded as before and refused for the
+          // faces repeating a vertex.
+          EdgeCollapse collapse = drop_faces_made_degenerate(mesh, welded);
+          bool weld = true;
+          if (collapse.faces > 0) {
+            const MeshReport collapsed = analyze_mesh(welded);
+            const bool input_closed = closed_manifold_connected(before);
+            const bool safe = closed_manifold_connected(collapsed) && collapsed.unreferenced_vertices == 0 &&
+                              (!input_closed || collapsed.euler_characteristic == before.euler_characteristic);
+            if (!safe) {
+              weld = !input_closed;
+              welded = mesh;
+              weld_duplicates(welded);  // as before the collapse: the faces repeating a vertex stay and are refused
+              collapse = {};
+            }
+          }
+          if (weld) {
+            mesh = std::move(welded);
+            out.repairs.push_back({"welded_duplicate_vertices", "welded " + plural(n, "vertex", "vertices") + " into earlier vertices at exactly the same position", n});
+            if (collapse.faces > 0)
+              out.repairs.push_back({"collapsed_zero_length_edges",
+                                     "collapsed " + plural(collapse.edges, "zero-length edge", "zero-length edges") + " between welded vertices by dropping the " +
+                                         plural(collapse.faces, "zero-area face", "zero-area faces") + " that welding turned into faces repeating a vertex",
+                                     collapse.edges});
+          }
+        }
+      }
+    }
+    if (options.weld_duplicate_vertices) {
+      // Faces that repeated a vertex as read (STL: welded by the reader) are the same zero-area faces of a welded
+      // twin; they are dropped when the rest is a closed, manifold, connected surface using every vertex. No Euler
+      // baseline exists here (the input's faces already were welded), and none is needed: validation judges the
+      // surface without them either way — dropping them only removes a face that has no area and no edges.
+      Mesh collapsed = mesh;
+      if (const EdgeCollapse c = drop_faces_repeating_a_vertex(collapsed); c.faces > 0) {
+        const MeshReport r = analyze_mesh(collapsed);
+        if (closed_manifold_connected(r) && r.unreferenced_vertices == 0) {
+          mesh = std::move(collapsed);
+          out.repairs.push_back({"collapsed_zero_length_edges",
+                                 "dropped " + plural(c.faces, "face", "faces") + " repeating a vertex (welded as read: " +
+                                     plural(c.edges, "collapsed zero-length edge", "collapsed zero-length edges") + ")",
+                                 c.edges});
         }
       }
     }

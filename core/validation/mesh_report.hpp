@@ -46,7 +46,10 @@ struct ValidationIssue {
 };
 
 // A harmless defect that was repaired (never silently): "dropped_unreferenced_vertices",
-// "welded_duplicate_vertices", "flipped_orientation", "removed_duplicate_faces".
+// "welded_duplicate_vertices", "collapsed_zero_length_edges" (faces that welding turned into faces repeating a
+// vertex were zero-area faces on a zero-length edge; dropping them collapses the edge, kept only when the surface
+// stays closed, manifold, connected, with the same Euler characteristic; `count` = edges), "removed_duplicate_faces",
+// "flipped_orientation".
 struct RepairAction {
   std::string code;
   std::string message;
@@ -66,7 +69,7 @@ struct PreparedMesh {
 
 struct RepairOptions {
   bool drop_unreferenced_vertices = true;
-  bool weld_duplicate_vertices = true;   // exact position equality only
+  bool weld_duplicate_vertices = true;   // exact position equality only; collapses the zero-length edges it makes
   bool orient_outward = true;            // flip all faces when the signed volume is negative
   bool remove_duplicate_faces = true;    // a face equal to an earlier one up to rotation (same orientation)
 };

@@ -1,6 +1,7 @@
 // Real-segmentation-mesh defects (issue 11, docs/design/real-meshes.md): the robust operators and the map on constructed bad
 // meshes. Every mesh here is closed, manifold and genus 0; each must get a BIJECTIVE map (0 flipped, 0 degenerate
 // faces, degree 1) with its distortion reported as a verdict.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -113,21 +114,30 @@ TEST(IntrinsicOperator, MollificationMakesZeroAreaFacesValid) {
 }
 
 TEST(RealMeshMap, DuplicateVertexWithZeroAreaFacesMapsLikeTheCleanMesh) {
+  // The default path, as `wish describe`, `wish train` and /v1/classify run it: prepare_for_mapping with the default
+  // repairs (welding on), then the default map of the prepared mesh.
   const Mesh clean = testing::make_ellipsoid(1.0, 0.7, 0.5, 3);
   const Mesh split = split_vertex(clean, 5);
-  ASSERT_TRUE(prepare_for_mapping(split, RepairOptions{.weld_duplicate_vertices = false}).mappable());
+  ASSERT_EQ(analyze_mesh(split).zero_area_faces, 2);  // the defect is there
+  const PreparedMesh prepared = prepare_for_mapping(split);
+  ASSERT_TRUE(prepared.mappable()) << prepared.issues.front().code << ": " << prepared.issues.front().message;
+  const auto collapsed = std::find_if(prepared.repairs.begin(), prepared.repairs.end(),
+                                      [](const RepairAction& r) { return r.code == "collapsed_zero_length_edges"; });
+  ASSERT_NE(collapsed, prepared.repairs.end());
+  EXPECT_EQ(collapsed->count, 1);
+  // The twin is the last vertex and welds into vertex 5; the two zero-area faces were appended last: collapsing
+  // their edge gives back the clean mesh exactly, so its map is the clean mesh's map.
+  EXPECT_EQ(prepared.mesh.vertices, clean.vertices);
+  EXPECT_EQ(prepared.mesh.faces, clean.faces);
   const SphericalMapResult a = compute_spherical_map(clean);
-  const SphericalMapResult b = compute_spherical_map(split);
+  const SphericalMapResult b = compute_spherical_map(prepared.mesh);
   expect_bijective(a, "ellipsoid clean");
-  expect_bijective(b, "ellipsoid + twin vertex");
-  EXPECT_EQ(b.operator_stats.zero_area_faces, 2);
-  // Invariants of the map: every shared vertex lands within 2e-2 of where the clean mesh puts it (same flow,
-  // same start; the twin only perturbs its own fan), the twin next to its original, same distortion to 2 %.
+  expect_bijective(b, "ellipsoid + twin vertex, repaired");
+  EXPECT_EQ(b.operator_stats.zero_area_faces, 0);
   double worst = 0;
   for (Eigen::Index i = 0; i < clean.vertex_count(); ++i) worst = std::max(worst, (a.sphere.row(i) - b.sphere.row(i)).norm());
-  EXPECT_LT(worst, 2e-2);
-  EXPECT_LT((b.sphere.row(clean.vertex_count()) - b.sphere.row(5)).norm(), 0.1);
-  EXPECT_NEAR(b.quality.conformal_mean, a.quality.conformal_mean, 0.02 * a.quality.conformal_mean);
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_NEAR(b.quality.conformal_mean, a.quality.conformal_mean, 1e-12 * a.quality.conformal_mean);
 }
 
 TEST(RealMeshMap, NeedleHeavyVoxelSampledSphereAndEllipsoidMapBijectively) {

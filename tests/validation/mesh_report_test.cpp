@@ -129,21 +129,97 @@ TEST(MeshReport, DegenerateFacesAreIssues) {
   }
 }
 
-TEST(MeshReport, ZeroAreaFacesOfAClosedMeshAreAccepted) {
-  // Tetrahedron with a vertex duplicated at its twin's position: 0 is split into 0 and 4 along the edge 0–1, which
-  // makes two zero-area faces (0, 4, x); closed, manifold, genus 0 — the real-segmentation defect of issue 11.
-  Mesh m;
-  m.vertices.resize(5, 3);
-  m.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0;
-  // Faces of the tetrahedron (0,2,1), (0,1,3), (0,3,2), (1,2,3) with 0 split along 0–2 and 0–3: (0,3,2) becomes
-  // (4,3,2) plus the slivers (0,3,4) and (0,4,2).
-  m.faces.resize(6, 3);
-  m.faces << 0, 2, 1, 0, 1, 3, 4, 3, 2, 1, 2, 3, 0, 3, 4, 0, 4, 2;
+// Tetrahedron with a vertex duplicated at its twin's position: 0 is split into 0 and 4, which makes two zero-area
+// faces (0, 3, 4) and (0, 4, 2) on the zero-length edge 0–4; closed, manifold, genus 0 — the real-segmentation
+// defect of issues 11 and 24. Faces of the tetrahedron (0,2,1), (0,1,3), (0,3,2), (1,2,3) with (0,3,2) moved to the
+// twin: (4,3,2).
+Mesh tetrahedron_with_twin_vertex() {
+  return make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 0}},
+              {{0, 2, 1}, {0, 1, 3}, {4, 3, 2}, {1, 2, 3}, {0, 3, 4}, {0, 4, 2}});
+}
+
+TEST(MeshReport, TwinVertexIsWeldedAndItsZeroLengthEdgeCollapsedByDefault) {
+  const Mesh m = tetrahedron_with_twin_vertex();
   const MeshReport r = analyze_mesh(m);
-  ASSERT_EQ(r.genus, std::optional<std::int64_t>(0));
-  EXPECT_EQ(r.zero_area_faces, 2);
-  PreparedMesh p = prepare_for_mapping(m, RepairOptions{.weld_duplicate_vertices = false});
+  ASSERT_EQ(r.genus, std::optional<std::int64_t>(0));  // the defect is there: a closed genus-0 mesh ...
+  EXPECT_EQ(r.zero_area_faces, 2);                      // ... with two zero-area faces on a twin
+  EXPECT_EQ(r.duplicate_vertices, 1);
+  const PreparedMesh p = prepare_for_mapping(m);  // the default options, as every user path runs it
   EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+  ASSERT_NE(repair(p, "welded_duplicate_vertices"), nullptr);
+  EXPECT_EQ(repair(p, "welded_duplicate_vertices")->count, 1);
+  ASSERT_NE(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges")->count, 1);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges")->message,
+            "collapsed 1 zero-length edge between welded vertices by dropping the 2 zero-area faces that welding turned "
+            "into faces repeating a vertex");
+  // The collapse gives back exactly the tetrahedron: same vertices, same faces, the same closed surface.
+  EXPECT_EQ(p.mesh.vertices, tetrahedron().vertices);
+  EXPECT_EQ(p.mesh.faces, tetrahedron().faces);
+  EXPECT_EQ(p.report.euler_characteristic, r.euler_characteristic);
+  EXPECT_EQ(p.report.degenerate_faces, 0);
+  EXPECT_NEAR(p.report.area, r.area, 1e-15);  // only zero-area faces were dropped
+}
+
+TEST(MeshReport, TwinVerticesOfATriangleSoupAreCollapsedWhenTheWeldedSurfaceIsClosed) {
+  // The twin tetrahedron as an STL-like soup (every face with its own corners): welding closes the surface and
+  // turns the two zero-area faces into faces repeating a vertex; the collapse leaves the tetrahedron.
+  const Mesh twin = tetrahedron_with_twin_vertex();
+  Mesh soup;
+  soup.vertices.resize(3 * twin.face_count(), 3);
+  soup.faces.resize(twin.face_count(), 3);
+  for (Eigen::Index f = 0; f < twin.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      soup.vertices.row(3 * f + k) = twin.vertices.row(twin.faces(f, k));
+      soup.faces(f, k) = static_cast<int>(3 * f + k);
+    }
+  const PreparedMesh p = prepare_for_mapping(soup);
+  EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+  ASSERT_NE(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_EQ(p.mesh.vertex_count(), 4);
+  EXPECT_EQ(p.mesh.face_count(), 4);
+  EXPECT_EQ(p.report.genus, std::optional<std::int64_t>(0));
+}
+
+TEST(MeshReport, TwinVertexReadFromStlIsCollapsedByDefault) {
+  // STL has no vertex identity: the reader welds corners by position, so the twin arrives welded and its two
+  // zero-area faces as faces repeating a vertex. The default repairs drop them: the tetrahedron again.
+  const ReadResult read = read_mesh(write_mesh(tetrahedron_with_twin_vertex(), MeshFormat::Stl, MeshEncoding::Ascii));
+  ASSERT_EQ(read.mesh.vertex_count(), 4);  // welded by the reader
+  ASSERT_EQ(analyze_mesh(read.mesh).degenerate_faces - analyze_mesh(read.mesh).zero_area_faces, 2);
+  const PreparedMesh p = prepare_for_mapping(read.mesh);
+  EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+  ASSERT_NE(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges")->count, 1);
+  EXPECT_EQ(p.mesh.face_count(), 4);
+  EXPECT_EQ(p.report.genus, std::optional<std::int64_t>(0));
+}
+
+TEST(MeshReport, TwinWhoseCollapseWouldPinchTheSurfaceIsLeftUnwelded) {
+  // Triangular bipyramid (equator A, B, C; apexes P, Q) with B at exactly A's position: the zero-length edge A-B has
+  // a third common neighbour C outside its two faces, so collapsing it would give the edge A-C four faces. Welding
+  // is refused (it would make the surface non-manifold) and the closed input stays as it is: its two zero-area
+  // faces are accepted, nothing is collapsed.
+  const Mesh m = make({{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {0.3, 0.3, 1}, {0.3, 0.3, -1}},
+                      {{3, 0, 1}, {3, 1, 2}, {3, 2, 0}, {4, 1, 0}, {4, 2, 1}, {4, 0, 2}});
+  ASSERT_EQ(analyze_mesh(m).genus, std::optional<std::int64_t>(0));
+  ASSERT_EQ(analyze_mesh(m).zero_area_faces, 2);
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(repair(p, "welded_duplicate_vertices"), nullptr);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_EQ(p.mesh.vertex_count(), 5);
+  EXPECT_TRUE(p.mappable()) << (p.issues.empty() ? "" : p.issues.front().message);
+}
+
+TEST(MeshReport, FacesThatWeldingMakesDegenerateOnAnOpenSurfaceStayRefused) {
+  // A triangle plus a zero-area face on a twin of its corner 0: the collapse would leave an open single triangle,
+  // which is no closed surface, so nothing is collapsed and the face repeating a vertex is refused as before.
+  const Mesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}}, {{0, 1, 2}, {0, 3, 1}});
+  const PreparedMesh p = prepare_for_mapping(m);
+  EXPECT_EQ(repair(p, "collapsed_zero_length_edges"), nullptr);
+  EXPECT_NE(repair(p, "welded_duplicate_vertices"), nullptr);
+  EXPECT_TRUE(has_issue(p, "degenerate_faces"));
+  EXPECT_TRUE(has_issue(p, "not_closed"));
 }
 
 TEST(MeshReport, HarmlessDefectsAreRepairedAndReported) {
