@@ -1,4 +1,4 @@
-// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]`: conformal map of a closed
+// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear|progressive] [--steps N] [--json]`: conformal map of a closed
 // genus-0 mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
 // vertices) and prints the quality report; a map that fails verification is not written and exits with kExitInvalid.
 #include <chrono>
@@ -77,8 +77,8 @@ CommandRunner setup_map(CLI::App& sub) {
   auto args = std::make_shared<MapArgs>();
   sub.add_option("file", args->input, "Input mesh (OBJ, PLY, OFF, STL): closed, genus 0")->required();
   sub.add_option("--out,-o", args->output, "Sphere mesh to write (format from the extension)")->required();
-  sub.add_option("--method", args->method, "willmore (default), cmcf or linear")
-      ->check(CLI::IsMember({"willmore", "cmcf", "linear"}));
+  sub.add_option("--method", args->method, "willmore (default), cmcf, linear or progressive")
+      ->check(CLI::IsMember({"willmore", "cmcf", "linear", "progressive"}));
   sub.add_option("--steps", args->steps, "Flow step cap (default: 20 for willmore, 30 for cmcf)")->check(CLI::PositiveNumber);
   sub.add_option("--solver", args->solver, "cholmod (default) or eigen")->check(CLI::IsMember({"cholmod", "eigen"}));
   sub.add_flag("--filtered", args->filtered, "Low-pass filtered Willmore flow (noisy segmentation meshes)");

@@ -95,8 +95,8 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--heatmap", o->heatmap, "SVG heat map of the grid accuracy to write");
   sub.add_option("--save-descriptors", o->save_descriptors, "Write the labelled descriptors (CSV) for re-training");
   sub.add_option("--name", o->name, "Model name")->capture_default_str();
-  sub.add_option("--method", o->method, "Spherical map method of the recipe: willmore | cmcf | linear")
-      ->check(CLI::IsMember({"willmore", "cmcf", "linear"}))->capture_default_str();
+  sub.add_option("--method", o->method, "Spherical map method of the recipe: willmore | cmcf | linear | progressive")
+      ->check(CLI::IsMember({"willmore", "cmcf", "linear", "progressive"}))->capture_default_str();
   sub.add_option("--area-correction", o->area_correction,
                  "Area-aware correction after the conformal map, part of the recipe: none (the paper's map) | "
                  "density_equalizing (beyond the paper)")

@@ -135,8 +135,8 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
     } else if (name == "method") {
       const std::string m = lower(value);
       // The methods of core/spherical_map (map_method_from_name) and of proto/openapi.json's `method` parameter.
-      if (m != "willmore" && m != "cmcf" && m != "linear")
-        invalid_parameter(name, "method must be willmore, cmcf or linear, not '" + value + "'", value);
+      if (m != "willmore" && m != "cmcf" && m != "linear" && m != "progressive")
+        invalid_parameter(name, "method must be willmore, cmcf, linear or progressive, not '" + value + "'", value);
       out.method = m;
     } else if (name == "steps") {
       const int steps = parse_int(name, value, 1, 1000000);
@@ -176,10 +176,11 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.format = f;
     }
   }
-  // The linear map is one solve, no flow: a step cap for it would be silently ignored.
-  if (out.method == "linear" && out.steps)
-    throw InvalidInputError("invalid_parameter", "parameter steps does not apply to method linear (a single solve)",
-                            {{"parameter", std::string("steps")}, {"method", std::string("linear")}});
+  // The linear map is one solve and the progressive embedding has no flow: a step cap would be silently ignored.
+  if ((out.method == "linear" || out.method == "progressive") && out.steps)
+    throw InvalidInputError("invalid_parameter",
+                            "parameter steps does not apply to method " + *out.method + " (no flow steps)",
+                            {{"parameter", std::string("steps")}, {"method", *out.method}});
   return out;
 }
 

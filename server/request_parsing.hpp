@@ -33,7 +33,7 @@ struct VolumeParams {
 struct ComputeParams {
   std::string model;                  // classify: "" -> the default model
   std::optional<int> lmax;            // explicit descriptor settings (absent: default or the model's)
-  std::optional<std::string> method;  // "willmore" | "cmcf" | "linear"
+  std::optional<std::string> method;  // "willmore" | "cmcf" | "linear" | "progressive"
   std::optional<int> steps;
   bool include_coefficients = false;
   bool include_invariants = true;

@@ -9,6 +9,7 @@
 #include "core/spherical_map/cmcf.hpp"
 #include "core/spherical_map/linear_map.hpp"
 #include "core/spherical_map/mobius.hpp"
+#include "core/spherical_map/progressive_embedding.hpp"
 #include "core/spherical_map/untangle.hpp"
 #include "core/spherical_map/willmore_flow.hpp"
 
@@ -37,6 +38,8 @@ FlowResult run_method(const MapContext& context, const MapAttemptPlan& plan, con
       l.always_clamp = l.always_clamp || plan.clamp;
       return linear_map(context, l, control);
     }
+    case MapMethod::Progressive:
+      return progressive_map(context, ProgressiveOptions{}, control);
   }
   return {};
 }
@@ -66,11 +69,19 @@ bool project_radially(Eigen::MatrixX3d& surface, const Eigen::MatrixX3i& faces, 
 // first (keeps the map as conformal as it can), the uniform Tutte relaxation for what it leaves. Both stop when
 // the repair budget is spent: what flips remain then fail the verification (never accepted).
 MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOptions& options,
-                                const CpuBudget& repair_budget, Eigen::MatrixX3d& sphere, MapAttempt& attempt) {
+                                const CpuBudget& repair_budget, bool balance, Eigen::MatrixX3d& sphere,
+                                MapAttempt& attempt) {
   MobiusResult mobius;
   long repaired = 0;
+  const auto rebalance = [&] {
+    if (balance) return mobius_balance(sphere, context.input_mass());
+    MobiusResult kept;  // the method's own normalisation: reported, not changed
+    kept.converged = true;
+    kept.centroid = Eigen::Vector3d(sphere.transpose() * (context.input_mass() / context.input_mass().sum())).norm();
+    return kept;
+  };
   if (sphere.allFinite()) {
-    mobius = mobius_balance(sphere, context.input_mass());
+    mobius = rebalance();
     if (options.untangle) {
       const double repair0 = CpuBudget::thread_cpu_seconds();
       const ChartUntangleResult charts = untangle_in_charts(sphere, context.mesh().vertices, context.faces(),
@@ -82,7 +93,7 @@ MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOpt
         repaired += tutte.moved_vertices;
         attempt.repair_budget_stopped = tutte.budget_stopped;
       }
-      if (repaired > 0) mobius = mobius_balance(sphere, context.input_mass());  // the repair moved the centroid a bit
+      if (repaired > 0) mobius = rebalance();  // the repair moved the centroid a bit
       attempt.repair_cpu_seconds = CpuBudget::thread_cpu_seconds() - repair0;
     }
   }
@@ -152,7 +163,8 @@ AttemptRun run_attempt(const MapContext& context, const MapAttemptPlan& plan, co
   else
     attempt.everted = project_radially(flow.vertices, context.faces(), run.sphere);
   run.flowed = flow.last.size() > 0 ? std::move(flow.last) : std::move(flow.vertices);  // where a continued flow starts
-  const MobiusResult mobius = balance_and_repair(context, options, repair_budget, run.sphere, attempt);
+  const MobiusResult mobius =
+      balance_and_repair(context, options, repair_budget, !flow.keep_normalisation, run.sphere, attempt);
   const long repaired = attempt.quality.repaired_vertices;
   attempt.quality = measure_map(context.mesh().vertices, context.faces(), run.sphere, options.verification);
   attempt.quality.repaired_vertices = repaired;

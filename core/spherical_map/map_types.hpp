@@ -10,12 +10,17 @@
 
 namespace wish {
 
-// The recipe's map method (spherical-map.md §3, §8.1, §8.2): the first attempt of the chain (map_chain.hpp).
-enum class MapMethod { Willmore, Cmcf, Linear };
-inline constexpr EnumNames<MapMethod, 3> kMapMethodNames{{{
+// The recipe's map method (spherical-map.md §3, §8.1, §8.2; progressive_embedding.hpp): the first attempt of the
+// chain (map_chain.hpp).
+enum class MapMethod { Willmore, Cmcf, Linear, Progressive };
+inline constexpr EnumNames<MapMethod, 4> kMapMethodNames{{{
     {MapMethod::Willmore, "willmore"},
     {MapMethod::Cmcf, "cmcf"},
-    {MapMethod::Linear, "linear"}}}};
+    {MapMethod::Linear, "linear"},
+    {MapMethod::Progressive, "progressive"}}}};
+// A method that is not a flow (one shot, bijective by construction): it runs without an Ok map whatever the time
+// budget (bijectivity before time), and its map's repair may use the whole chain budget.
+constexpr bool is_one_shot(MapMethod method) { return method == MapMethod::Linear || method == MapMethod::Progressive; }
 const char* to_string(MapMethod method);
 MapMethod map_method_from_name(const std::string& name);  // throws InvalidInputError
 

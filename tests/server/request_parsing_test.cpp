@@ -104,7 +104,7 @@ TEST(ParseComputeParams, LimitsAreSizeProblems) {
 }
 
 TEST(ParseComputeParams, EveryMapMethodOfTheContract) {
-  for (const char* m : {"willmore", "cmcf", "linear"})
+  for (const char* m : {"willmore", "cmcf", "linear", "progressive"})
     EXPECT_EQ(parse_compute_params(Operation::Describe, {{"method", m}}, config()).method, m);
   // A step cap for the one-solve linear map would be silently ignored: refused.
   const auto e = thrown([] { parse_compute_params(Operation::Describe, {{"method", "linear"}, {"steps", "5"}}, config()); });
