@@ -24,7 +24,7 @@
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/sh/sh_fit_names.hpp"
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 #include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
 

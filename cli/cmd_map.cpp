@@ -1,4 +1,4 @@
-// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear] [--steps N] [--json]` (methods: kMapMethodNames): conformal map of a closed
+// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear|progressive] [--steps N] [--json]` (methods: kMapMethodNames): conformal map of a closed
 // genus-0 mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
 // vertices) and prints the quality report; a map that fails verification is not written and exits with kExitInvalid.
 #include <chrono>
@@ -14,7 +14,7 @@
 #include "core/common/deadline.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/pipeline/describe_overrides.hpp"
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "wire/wire_json.hpp"
 #include "core/validation/mesh_report.hpp"

@@ -41,7 +41,7 @@
 #include "core/pipeline/pipeline.hpp"
 #include "core/pipeline/training_set.hpp"
 #include "core/sh/sh_fit_names.hpp"
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 #include "wire/training_report_json.hpp"
 
 namespace wish::cli {

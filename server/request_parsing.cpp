@@ -7,7 +7,7 @@
 #include <set>
 
 #include "core/common/errors.hpp"
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 
 namespace wish::server {
 
@@ -186,7 +186,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       out.format = f;
     }
   }
-  check_overrides(out.descriptor, "steps");  // a step cap with the linear map (one solve) would be ignored
+  check_overrides(out.descriptor, "steps");  // a step cap with a one-shot method (linear, progressive) would be ignored
   return out;
 }
 

@@ -7,7 +7,7 @@
 #include "core/classify/recipe_names.hpp"
 #include "core/geometry/laplacian_kind_names.hpp"
 #include "core/sh/sh_fit_names.hpp"
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 
 namespace wish::wire {
 
@@ -46,7 +46,7 @@ std::size_t end_of_value(const std::string& text, std::size_t start) {
 
 std::vector<ContractEnum> contract_enums() {
   return {
-      from_table("MapMethod", kMapMethodNames, "Spherical-map method", "core/spherical_map/map_method_names.hpp"),
+      from_table("MapMethod", kMapMethodNames, "Spherical-map method", "core/spherical_map/map_types.hpp"),
       from_table("FitWeighting", kFitWeightingNames, "SH fit weights: input vertex areas or uniform (the paper's)",
                  "core/sh/sh_fit_names.hpp"),
       from_table("FitSolver", kFitSolverNames, "SH fit solver: one LDLT solve or the paper's banded residual scheme",

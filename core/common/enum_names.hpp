@@ -8,7 +8,7 @@
 //   FitSolver fit_solver_from_name(const std::string& n) { return kFitSolverNames.parse(n, "fit solver", "solver"); }
 //
 // A table that a front end lists (a CLI option's choices, an OpenAPI enum) is an `inline constexpr` in a small
-// header beside the enum's (core/spherical_map/map_method_names.hpp, ...), so that adding a name to it is the only
+// header beside the enum's (core/spherical_map/map_types.hpp, ...), so that adding a name to it is the only
 // change: cli/enum_option.hpp builds the CLI validators from it and wire/contract_enums.cpp the OpenAPI enums.
 //
 // parse() throws InvalidInputError(code, "unknown fit solver 'x' (expected direct or banded)", {{detail_key, x}}):

@@ -10,7 +10,7 @@ void check_overrides(const DescribeOverrides& overrides, const std::string& step
   if (overrides.method && overrides.max_flow_steps && !has_flow_step_cap(*overrides.method))
     throw InvalidInputError("invalid_parameter",
                             "parameter " + steps_name + " does not apply to method " + to_string(*overrides.method) +
-                                " (a single solve, no flow)",
+                                " (one shot, no flow steps)",
                             {{"parameter", steps_name}, {"method", std::string(to_string(*overrides.method))}});
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -188,6 +189,184 @@ Eigen::Matrix2d reference_triangle(const Eigen::Vector3d& p0, const Eigen::Vecto
   return m / std::sqrt(0.5 * std::abs(m.determinant()));
 }
 
+// Faces around each vertex and each vertex's neighbours (sorted).
+struct Adjacency {
+  std::vector<std::vector<int>> vertex_faces, neighbours;
+
+  Adjacency(const Eigen::MatrixX3i& faces, Eigen::Index nv)
+      : vertex_faces(static_cast<size_t>(nv)), neighbours(static_cast<size_t>(nv)) {
+    for (Eigen::Index f = 0; f < faces.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        vertex_faces[static_cast<size_t>(faces(f, k))].push_back(static_cast<int>(f));
+        neighbours[static_cast<size_t>(faces(f, k))].push_back(faces(f, (k + 1) % 3));
+        neighbours[static_cast<size_t>(faces(f, k))].push_back(faces(f, (k + 2) % 3));
+      }
+    for (auto& n : neighbours) {
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+  }
+
+  // Adds `rings` rings of neighbours to `set` (membership in `in`).
+  void grow(std::vector<int>& set, std::vector<char>& in, int rings) const {
+    for (int r = 0; r < rings; ++r) {
+      const std::vector<int> current = set;
+      for (int v : current)
+        for (int w : neighbours[static_cast<size_t>(v)])
+          if (!in[static_cast<size_t>(w)]) {
+            in[static_cast<size_t>(w)] = 1;
+            set.push_back(w);
+          }
+    }
+  }
+};
+
+// Clusters: connected components of (bad faces' vertices + `rings` rings).
+std::vector<std::vector<int>> find_clusters(const std::vector<Eigen::Index>& bad, const Eigen::MatrixX3i& faces,
+                                            const Adjacency& adjacency, int rings, Eigen::Index nv) {
+  std::vector<char> covered(static_cast<size_t>(nv), 0);
+  std::vector<int> region;
+  for (Eigen::Index f : bad)
+    for (int k = 0; k < 3; ++k)
+      if (!covered[static_cast<size_t>(faces(f, k))]) {
+        covered[static_cast<size_t>(faces(f, k))] = 1;
+        region.push_back(faces(f, k));
+      }
+  adjacency.grow(region, covered, rings);
+  std::vector<int> component(static_cast<size_t>(nv), -1);
+  std::vector<std::vector<int>> clusters;
+  for (int start : region) {
+    if (component[static_cast<size_t>(start)] >= 0) continue;
+    const int id = static_cast<int>(clusters.size());
+    clusters.emplace_back();
+    std::vector<int> stack{start};
+    component[static_cast<size_t>(start)] = id;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      clusters.back().push_back(v);
+      for (int w : adjacency.neighbours[static_cast<size_t>(v)])
+        if (covered[static_cast<size_t>(w)] && component[static_cast<size_t>(w)] < 0) {
+          component[static_cast<size_t>(w)] = id;
+          stack.push_back(w);
+        }
+    }
+  }
+  return clusters;
+}
+
+// One cluster's problem in its chart: the faces touching the cluster, the chart positions of their vertices (free
+// first, then fixed) and the energy's elements.
+struct ClusterProblem {
+  Chart chart;
+  std::vector<int> touched;
+  std::vector<Eigen::Vector2d> x;
+  std::vector<Element> elements;
+};
+
+// The problem of `cluster`, or nothing when the cluster cannot be charted (no centre, too wide a chart, a scale
+// that is zero or not finite). `local`: a V-sized scratch of −1s, left as found.
+std::optional<ClusterProblem> chart_problem(const std::vector<int>& cluster, const Eigen::MatrixX3d& sphere,
+                                            const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
+                                            const Adjacency& adjacency, const ChartUntangleOptions& options,
+                                            std::vector<int>& local) {
+  // Chart centre and extent.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int v : cluster) centre += sphere.row(v).transpose();
+  if (!(centre.norm() > 0)) return std::nullopt;
+  centre.normalize();
+  // Faces touching the cluster, their vertices (free first, then fixed), local indices.
+  std::vector<int> touched;
+  for (int v : cluster)
+    for (int f : adjacency.vertex_faces[static_cast<size_t>(v)]) touched.push_back(f);
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  std::vector<int> vertices = cluster;
+  for (size_t i = 0; i < vertices.size(); ++i) local[static_cast<size_t>(vertices[i])] = static_cast<int>(i);
+  for (int f : touched)
+    for (int k = 0; k < 3; ++k)
+      if (local[static_cast<size_t>(faces(f, k))] < 0) {
+        local[static_cast<size_t>(faces(f, k))] = static_cast<int>(vertices.size());
+        vertices.push_back(faces(f, k));
+      }
+  double max_angle = 0;
+  for (int v : vertices) max_angle = std::max(max_angle, std::acos(std::clamp(sphere.row(v).dot(centre), -1.0, 1.0)));
+  ClusterProblem problem{Chart(centre), std::move(touched), {}, {}};
+  problem.x.resize(vertices.size());
+  for (size_t i = 0; i < vertices.size(); ++i) problem.x[i] = problem.chart.to_chart(sphere.row(vertices[i]).transpose());
+  // Local scale of the chart (conformal maps compress by orders of magnitude across a cluster on a thin part):
+  // each reference triangle gets the mean |chart area| of the faces around its vertices, so det J ≈ 1 for an
+  // unflipped face wherever it is, and ε (relative to det J) means the same everywhere.
+  std::vector<double> area_sum(vertices.size(), 0.0), area_count(vertices.size(), 0.0);
+  for (int f : problem.touched) {
+    const size_t a = static_cast<size_t>(local[static_cast<size_t>(faces(f, 0))]),
+                 b = static_cast<size_t>(local[static_cast<size_t>(faces(f, 1))]),
+                 c = static_cast<size_t>(local[static_cast<size_t>(faces(f, 2))]);
+    const double face_area = 0.5 * std::abs(cross2(problem.x[b] - problem.x[a], problem.x[c] - problem.x[a]));
+    for (size_t v : {a, b, c}) {
+      area_sum[v] += face_area;
+      area_count[v] += 1;
+    }
+  }
+  problem.elements.reserve(problem.touched.size());
+  bool scales_ok = true;
+  for (int f : problem.touched) {
+    int v[3];
+    double local_area = 0;
+    for (int k = 0; k < 3; ++k) {
+      v[k] = local[static_cast<size_t>(faces(f, k))];
+      local_area += area_sum[static_cast<size_t>(v[k])] / (3 * area_count[static_cast<size_t>(v[k])]);
+    }
+    const double scale = std::sqrt(local_area);
+    scales_ok = scales_ok && scale > 0 && std::isfinite(scale);
+    const Eigen::Matrix2d ref = scale * reference_triangle(input_vertices.row(faces(f, 0)).transpose(),
+                                                           input_vertices.row(faces(f, 1)).transpose(),
+                                                           input_vertices.row(faces(f, 2)).transpose(),
+                                                           options.min_reference_quality);
+    problem.elements.push_back(make_element(v, ref.inverse()));
+  }
+  for (int vertex : vertices) local[static_cast<size_t>(vertex)] = -1;
+  if (max_angle > options.max_chart_angle || !scales_ok) return std::nullopt;
+  return problem;
+}
+
+// Minimises the cluster's energy with ε updated between steps by the rule of the paper; true (and the cluster's
+// new positions written to `sphere`) when every face touching it passes the sphere tests. The caller restores
+// the cluster on false. Sets budget_stopped when the budget runs out.
+bool solve_cluster(ClusterProblem& problem, const std::vector<int>& cluster, Eigen::MatrixX3d& sphere,
+                   const Eigen::MatrixX3i& faces, double min_height, const ChartUntangleOptions& options,
+                   const CpuBudget& budget, bool& budget_stopped) {
+  ClusterSolver solver(std::move(problem.x), std::move(problem.elements), static_cast<int>(cluster.size()));
+  auto write_back = [&] {
+    const auto& p = solver.positions();
+    for (size_t i = 0; i < cluster.size(); ++i) sphere.row(cluster[i]) = problem.chart.to_sphere(p[i]).transpose();
+  };
+  auto cluster_good = [&] {
+    for (int f : problem.touched)
+      if (is_bad_sphere_face(sphere, faces, f, min_height)) return false;
+    return true;
+  };
+  double min_det = solver.min_det();
+  double eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(min_det, 0.0), 2));
+  double e_prev = solver.energy(eps);
+  for (int it = 0; it < options.max_iterations; ++it) {
+    if ((budget_stopped = budget.expired())) return false;
+    for (int s = 0; s < options.newton_steps_per_iteration; ++s)
+      if (!solver.newton_step(eps)) break;
+    const double e = solver.energy(eps);
+    min_det = solver.min_det();
+    if (min_det > 0) {
+      write_back();
+      if (cluster_good()) return true;
+    }
+    const double sigma = std::max(1.0 - e / e_prev, 0.1);
+    const double mu = (1 - sigma) * chi(min_det, eps);
+    eps = min_det < mu ? 2 * std::sqrt(mu * (mu - min_det)) : 1e-13;
+    e_prev = solver.energy(eps);
+  }
+  return false;
+}
+
 }  // namespace
 
 ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3d& input_vertices,
@@ -203,63 +382,10 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
   result.bad_faces_before = result.bad_faces_after = static_cast<long>(bad.size());
   if (bad.empty() || static_cast<double>(bad.size()) > options.max_bad_fraction * static_cast<double>(nf)) return result;
 
-  std::vector<std::vector<int>> vertex_faces(static_cast<size_t>(nv)), neighbours(static_cast<size_t>(nv));
-  for (Eigen::Index f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      vertex_faces[static_cast<size_t>(faces(f, k))].push_back(static_cast<int>(f));
-      neighbours[static_cast<size_t>(faces(f, k))].push_back(faces(f, (k + 1) % 3));
-      neighbours[static_cast<size_t>(faces(f, k))].push_back(faces(f, (k + 2) % 3));
-    }
-  for (auto& n : neighbours) {
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-  }
-  auto grow = [&](std::vector<int>& set, std::vector<char>& in, int rings) {
-    for (int r = 0; r < rings; ++r) {
-      const std::vector<int> current = set;
-      for (int v : current)
-        for (int w : neighbours[static_cast<size_t>(v)])
-          if (!in[static_cast<size_t>(w)]) {
-            in[static_cast<size_t>(w)] = 1;
-            set.push_back(w);
-          }
-    }
-  };
-
-  // Clusters: connected components of (bad faces' vertices + `rings` rings).
-  std::vector<char> seed(static_cast<size_t>(nv), 0);
-  std::vector<int> seeds;
-  for (Eigen::Index f : bad)
-    for (int k = 0; k < 3; ++k)
-      if (!seed[static_cast<size_t>(faces(f, k))]) {
-        seed[static_cast<size_t>(faces(f, k))] = 1;
-        seeds.push_back(faces(f, k));
-      }
-  std::vector<char> covered = seed;
-  std::vector<int> region = seeds;
-  grow(region, covered, options.rings);
-  std::vector<int> component(static_cast<size_t>(nv), -1);
-  std::vector<std::vector<int>> clusters;
-  for (int start : region) {
-    if (component[static_cast<size_t>(start)] >= 0) continue;
-    const int id = static_cast<int>(clusters.size());
-    clusters.emplace_back();
-    std::vector<int> stack{start};
-    component[static_cast<size_t>(start)] = id;
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      clusters.back().push_back(v);
-      for (int w : neighbours[static_cast<size_t>(v)])
-        if (covered[static_cast<size_t>(w)] && component[static_cast<size_t>(w)] < 0) {
-          component[static_cast<size_t>(w)] = id;
-          stack.push_back(w);
-        }
-    }
-  }
+  const Adjacency adjacency(faces, nv);
+  std::vector<std::vector<int>> clusters = find_clusters(bad, faces, adjacency, options.rings, nv);
   result.clusters = static_cast<long>(clusters.size());
   const Eigen::MatrixX3d original = sphere;
-
   std::vector<int> local(static_cast<size_t>(nv), -1);
   for (std::vector<int>& cluster : clusters) {
     if (result.budget_stopped) break;
@@ -268,101 +394,12 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
     bool fixed = false;
     for (int attempt = 0; attempt <= options.max_grow && !fixed; ++attempt) {
       if ((result.budget_stopped = budget.expired())) break;
-      if (attempt > 0) grow(cluster, in, options.grow_rings);
+      if (attempt > 0) adjacency.grow(cluster, in, options.grow_rings);
       if (static_cast<int>(cluster.size()) > options.max_cluster_vertices) break;
-      // Chart centre and extent.
-      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-      for (int v : cluster) centre += sphere.row(v).transpose();
-      if (!(centre.norm() > 0)) break;
-      centre.normalize();
-      // Faces touching the cluster, their vertices (free first, then fixed), local indices.
-      std::vector<int> touched;
-      for (int v : cluster)
-        for (int f : vertex_faces[static_cast<size_t>(v)]) touched.push_back(f);
-      std::sort(touched.begin(), touched.end());
-      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-      std::vector<int> vertices = cluster;
-      for (size_t i = 0; i < vertices.size(); ++i) local[static_cast<size_t>(vertices[i])] = static_cast<int>(i);
-      for (int f : touched)
-        for (int k = 0; k < 3; ++k)
-          if (local[static_cast<size_t>(faces(f, k))] < 0) {
-            local[static_cast<size_t>(faces(f, k))] = static_cast<int>(vertices.size());
-            vertices.push_back(faces(f, k));
-          }
-      double max_angle = 0;
-      for (int v : vertices) max_angle = std::max(max_angle, std::acos(std::clamp(sphere.row(v).dot(centre), -1.0, 1.0)));
-      const Chart chart(centre);
-      std::vector<Eigen::Vector2d> x(vertices.size());
-      for (size_t i = 0; i < vertices.size(); ++i) x[i] = chart.to_chart(sphere.row(vertices[i]).transpose());
-      // Local scale of the chart (conformal maps compress by orders of magnitude across a cluster on a thin part):
-      // each reference triangle gets the mean |chart area| of the faces around its vertices, so det J ≈ 1 for an
-      // unflipped face wherever it is, and ε (relative to det J) means the same everywhere.
-      std::vector<double> area_sum(vertices.size(), 0.0), area_count(vertices.size(), 0.0);
-      std::vector<double> face_area(touched.size());
-      for (size_t i = 0; i < touched.size(); ++i) {
-        const int f = touched[i];
-        const size_t a = static_cast<size_t>(local[static_cast<size_t>(faces(f, 0))]),
-                     b = static_cast<size_t>(local[static_cast<size_t>(faces(f, 1))]),
-                     c = static_cast<size_t>(local[static_cast<size_t>(faces(f, 2))]);
-        face_area[i] = 0.5 * std::abs(cross2(x[b] - x[a], x[c] - x[a]));
-        for (size_t v : {a, b, c}) {
-          area_sum[v] += face_area[i];
-          area_count[v] += 1;
-        }
-      }
-      std::vector<Element> elements;
-      elements.reserve(touched.size());
-      bool scales_ok = true;
-      for (int f : touched) {
-        int v[3];
-        double local_area = 0;
-        for (int k = 0; k < 3; ++k) {
-          v[k] = local[static_cast<size_t>(faces(f, k))];
-          local_area += area_sum[static_cast<size_t>(v[k])] / (3 * area_count[static_cast<size_t>(v[k])]);
-        }
-        const double scale = std::sqrt(local_area);
-        scales_ok = scales_ok && scale > 0 && std::isfinite(scale);
-        const Eigen::Matrix2d ref = scale * reference_triangle(input_vertices.row(faces(f, 0)).transpose(),
-                                                               input_vertices.row(faces(f, 1)).transpose(),
-                                                               input_vertices.row(faces(f, 2)).transpose(),
-                                                               options.min_reference_quality);
-        elements.push_back(make_element(v, ref.inverse()));
-      }
-      for (int v : vertices) local[static_cast<size_t>(v)] = -1;
-      if (max_angle > options.max_chart_angle || !scales_ok) break;
-
-      ClusterSolver solver(std::move(x), std::move(elements), static_cast<int>(cluster.size()));
+      std::optional<ClusterProblem> problem = chart_problem(cluster, sphere, input_vertices, faces, adjacency, options, local);
+      if (!problem) break;
       const Eigen::MatrixX3d saved = sphere;  // only the cluster's rows change; restored on failure
-      auto write_back = [&] {
-        const auto& p = solver.positions();
-        for (size_t i = 0; i < cluster.size(); ++i) sphere.row(cluster[i]) = chart.to_sphere(p[i]).transpose();
-      };
-      auto cluster_good = [&] {
-        for (int f : touched)
-          if (is_bad_sphere_face(sphere, faces, f, min_height)) return false;
-        return true;
-      };
-      double min_det = solver.min_det();
-      double eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(min_det, 0.0), 2));
-      double e_prev = solver.energy(eps);
-      for (int it = 0; it < options.max_iterations; ++it) {
-        if ((result.budget_stopped = budget.expired())) break;
-        for (int s = 0; s < options.newton_steps_per_iteration; ++s)
-          if (!solver.newton_step(eps)) break;
-        const double e = solver.energy(eps);
-        min_det = solver.min_det();
-        if (min_det > 0) {
-          write_back();
-          if (cluster_good()) {
-            fixed = true;
-            break;
-          }
-        }
-        const double sigma = std::max(1.0 - e / e_prev, 0.1);
-        const double mu = (1 - sigma) * chi(min_det, eps);
-        eps = min_det < mu ? 2 * std::sqrt(mu * (mu - min_det)) : 1e-13;
-        e_prev = solver.energy(eps);
-      }
+      fixed = solve_cluster(*problem, cluster, sphere, faces, min_height, options, budget, result.budget_stopped);
       if (!fixed)
         for (int v : cluster) sphere.row(v) = saved.row(v);
     }

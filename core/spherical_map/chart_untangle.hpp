@@ -35,7 +35,7 @@
 #include <Eigen/Core>
 
 #include "core/common/cpu_budget.hpp"
-#include "core/spherical_map/spherical_map.hpp"
+#include "core/spherical_map/map_verification.hpp"
 
 namespace wish::spherical {
 

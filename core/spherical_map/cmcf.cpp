@@ -28,29 +28,24 @@ double robust_willmore_energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i&
 }
 }  // namespace
 
-FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverKind solver_kind,
-                     const geometry::IntrinsicOptions& laplacian, const Deadline& deadline, const CpuBudget& budget,
-                     const Eigen::MatrixX3d* start) {
+FlowResult cmcf_flow(const MapContext& context, const CmcfOptions& options, const FlowControl& control) {
   FlowResult result;
-  const Eigen::MatrixX3i& faces = mesh.faces;
-  linalg::CholeskyOptions copt;
-  copt.backend = solver_kind == LinearSolverKind::Cholmod ? linalg::CholeskyBackend::Cholmod
-                                                          : linalg::CholeskyBackend::EigenSimplicial;
-  linalg::SparseCholesky solver(copt);
+  const Eigen::MatrixX3i& faces = context.faces();
+  const geometry::IntrinsicOptions& laplacian = context.laplacian();
+  linalg::SparseCholesky solver(context.cholesky_options(linalg::CholmodMode::Auto, false));
 
-  Eigen::MatrixX3d x = mesh.vertices;
-  normalise_area_and_centre(x, faces);
-  // L₀: the intrinsic operator of the input (mollified, intrinsic Delaunay: nonnegative weights, so the implicit
-  // step is an M-matrix solve). M_t: lumped mass from mollified face areas of the current surface (positions are
-  // extrinsic by nature: the flow moves them).
-  geometry::IntrinsicOperator op = geometry::intrinsic_operator(x, faces, laplacian);
+  // L₀: the intrinsic operator of the input normalised to area 4π (mollified, intrinsic Delaunay: nonnegative
+  // weights, so the implicit step is an M-matrix solve). M_t: lumped mass from mollified face areas of the current
+  // surface (positions are extrinsic by nature: the flow moves them).
+  Eigen::MatrixX3d x = context.normalised_input();
+  const geometry::IntrinsicOperator& op = context.normalised_operator();
   result.operator_stats = op.stats;
-  const Eigen::SparseMatrix<double> l0 = std::move(op.laplacian);
+  const Eigen::SparseMatrix<double>& l0 = op.laplacian;
   Eigen::SparseMatrix<double> mass_matrix(x.rows(), x.rows());
   mass_matrix.setIdentity();
   Eigen::VectorXd mass = op.mass;
-  if (start) {  // continue an earlier run: its surface and that surface's mass, the input's L₀
-    x = *start;
+  if (control.start) {  // continue an earlier run: its surface and that surface's mass, the input's L₀
+    x = *control.start;
     mass = geometry::lumped_mass(faces, geometry::mollified_face_areas(x, faces, laplacian.mollify_delta), x.rows());
   }
   result.initial_energy = result.energy = robust_willmore_energy(x, faces, laplacian);
@@ -72,8 +67,8 @@ FlowResult cmcf_flow(const Mesh& mesh, const CmcfOptions& options, LinearSolverK
     }
   };
   for (int step = 1; step <= options.max_steps && !converged; ++step) {
-    deadline.check("cmcf step");
-    if (budget.expired()) {  // soft budget of the chain: keep the (roundest) surface so far, verified as it is
+    control.deadline.check("cmcf step");
+    if (control.budget.expired()) {  // soft budget of the chain: keep the (roundest) surface so far, verified as it is
       keep_roundest();
       result.status = MapStatus::NotConverged;
       result.failed_check = MapCheck::TimeBudget;

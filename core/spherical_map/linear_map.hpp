@@ -21,15 +21,26 @@
 // (docs/design/spherical-map.md §9). The caller Möbius-balances and verifies as for the flows; verification is still needed
 // because exponentially compressed regions can meet the limits of double precision.
 
-#include "core/mesh/mesh.hpp"
 #include "core/spherical_map/flow_result.hpp"
-#include "core/spherical_map/spherical_map.hpp"
+#include "core/spherical_map/map_context.hpp"
 
-namespace wish::spherical {
+namespace wish {
 
-// Result: vertices on the unit sphere (on_sphere = true), one step record with the timings, status Ok or
-// SolverFailed ("solver", "non_finite").
-FlowResult linear_map(const Mesh& mesh, const LinearMapOptions& options, LinearSolverKind solver,
-                      const geometry::IntrinsicOptions& laplacian = {});
+struct LinearMapOptions {
+  // Cot weights below min_weight × mean |w| are raised to it: all weights positive ⇒ Tutte/Floater embedding.
+  double min_weight = 1e-3;
+  // Use the clamped weights even when the plain cot map is a planar embedding (the chain's second linear attempt:
+  // a plain map can still fail on the sphere, e.g. near-180° angles whose flat chord triangles face the origin).
+  bool always_clamp = false;
+  bool operator==(const LinearMapOptions&) const = default;
+};
 
-}  // namespace wish::spherical
+namespace spherical {
+
+// The operator is the context's input_operator(). Result: vertices on the unit sphere (on_sphere = true), one step
+// record with the timings, clamped_weights, status Ok or SolverFailed ("solver", "non_finite"). A one-shot method:
+// control's budget and start are not used.
+FlowResult linear_map(const MapContext& context, const LinearMapOptions& options, const FlowControl& control = {});
+
+}  // namespace spherical
+}  // namespace wish

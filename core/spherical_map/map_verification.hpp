@@ -17,9 +17,51 @@
 
 #include <Eigen/Core>
 
-#include "core/spherical_map/spherical_map.hpp"
+#include "core/spherical_map/map_types.hpp"
 
-namespace wish::spherical {
+namespace wish {
+
+struct MapVerificationThresholds {
+  // A sphere triangle is NUMERICALLY degenerate when its orientation cannot be trusted in double precision: the
+  // flip test's determinant ((u_b − u_a)×(u_c − u_a))·(u_a + u_b + u_c) = 6·volume carries a rounding error of a
+  // few ulps (ε ≈ 1.1e-16) times the edge lengths, so its sign is reliable only while the triangle's smallest
+  // height h = 2·area/(longest edge) is well above ε on the unit sphere. Faces with h < degenerate_height (≈ 90 ε:
+  // one more rounding of the coordinates — a Möbius map, a renormalisation — could carry the apex across the
+  // opposite edge) count as degenerate. A merely TINY triangle is no failure: conformal maps compress long
+  // protrusions exponentially, and areas of 1e-15…1e-25 with heights ≫ ε are exact, bijective parts of the maps of
+  // armadillo, bunny, cactus, bull; the smallest area is reported as min_face_area.
+  double degenerate_height = 1e-14;
+  // Optional absolute floor kept for callers that want one: area below this * 4*pi also counts as degenerate
+  // (0 = off; it was 1e-12, which flagged exact, bijective maps of long shapes).
+  double degenerate_area = 0;
+  // Quasi-conformal ratio K (p99) above this makes the verdict "distorted"; it fails verification only with
+  // strict_conformal_bound (real segmentation meshes with thin necks get bijective maps with K p99 ~ 10–100).
+  double max_conformal_p99 = 5.0;
+  bool strict_conformal_bound = false;
+  bool operator==(const MapVerificationThresholds&) const = default;
+};
+
+// Figures of one sphere map, compared with the input mesh.
+struct MapQuality {
+  long flipped_faces = 0;            // must be 0 for a bijective map
+  long degenerate_faces = 0;
+  int degree = 0;                    // signed sphere area / 4*pi rounded; +1 for an orientation-preserving cover
+  double min_face_area = 0;          // smallest spherical triangle area (unit sphere)
+  double min_face_height = 0;        // Added: smallest 2·area/(longest edge) (unit sphere); see degenerate_height
+  double conformal_mean = 0, conformal_p99 = 0, conformal_max = 0;  // per-face K = sigma1/sigma2 >= 1
+  double area_distortion = 0;        // exp(mean |log(area ratio)|), areas normalised to equal totals
+  double roundness = 0;              // std(r)/mean(r) of the flowed surface before projection
+  double mobius_centroid = 0;        // |sum w_i u_i| after Möbius balancing
+  long non_finite_vertices = 0;      // NaN/Inf sphere positions (any > 0 fails verification)
+  int mobius_iterations = 0;         // iterations of the area-centre balancing
+  // Added: vertices moved by the local repair of a few flipped / numerically degenerate faces (untangle.hpp);
+  // 0 when the map verified as computed.
+  long repaired_vertices = 0;
+  MapVerdict verdict = MapVerdict::Failed;  // Added: good / distorted / failed (see MapVerdict)
+  long skipped_input_faces = 0;      // Added: zero-area input faces left out of the K / area statistics
+};
+
+namespace spherical {
 
 MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                        const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds);
@@ -45,4 +87,5 @@ bool is_bad_sphere_face(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& 
 
 MapCheck failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
 
-}  // namespace wish::spherical
+}  // namespace spherical
+}  // namespace wish

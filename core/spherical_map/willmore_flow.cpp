@@ -1,21 +1,17 @@
 #include "core/spherical_map/willmore_flow.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <complex>
 #include <memory>
-#include <vector>
-#include <cmath>
-#include <numbers>
 #include <string>
+#include <vector>
 
-#include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
-#include "core/geometry/mass_matrix.hpp"
 #include "core/geometry/mean_curvature.hpp"
 #include "core/geometry/roundness.hpp"
 #include "core/geometry/vertex_normals.hpp"
-#include "core/geometry/vertex_pattern.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 #include "core/spherical_map/dirac_operator.hpp"
 #include "core/spherical_map/spin_transform.hpp"
@@ -26,29 +22,20 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-linalg::CholeskyOptions cholesky_options(LinearSolverKind kind, linalg::CholmodMode mode, std::vector<int> perm) {
-  linalg::CholeskyOptions o;
-  o.backend = kind == LinearSolverKind::Cholmod ? linalg::CholeskyBackend::Cholmod
-                                                : linalg::CholeskyBackend::EigenSimplicial;
-  o.cholmod_mode = mode;
-  if (kind == LinearSolverKind::Cholmod) o.permutation = std::move(perm);
-  return o;
-}
-
 // The Dirac eigenproblem in either storage (dirac_operator.hpp); the pattern and the symbolic factorisation are
-// built once, with a METIS ordering of the vertex graph expanded to the blocks (cheaper than ordering the big graph).
+// built once, with the context's METIS ordering of the vertex graph expanded to the blocks (cheaper than ordering
+// the big graph).
 class DiracSystem {
  public:
-  DiracSystem(const geometry::VertexPattern& vp, bool use_complex, LinearSolverKind kind, const std::vector<int>& perm)
-      : vp_(vp), complex_(use_complex) {
+  DiracSystem(const MapContext& context, bool use_complex) : vp_(context.pattern()), complex_(use_complex) {
     if (complex_) {
-      cplx_ = build_dirac_pattern<std::complex<double>>(vp);
+      cplx_ = build_dirac_pattern<std::complex<double>>(vp_);
       cplx_solver_ = std::make_unique<linalg::ComplexSparseCholesky>(
-          cholesky_options(kind, linalg::CholmodMode::Supernodal, perm.empty() ? perm : linalg::expand_ordering(perm, 2)));
+          context.cholesky_options(linalg::CholmodMode::Supernodal, true, 2));
     } else {
-      real_ = build_dirac_pattern<double>(vp);
+      real_ = build_dirac_pattern<double>(vp_);
       real_solver_ = std::make_unique<linalg::SparseCholesky>(
-          cholesky_options(kind, linalg::CholmodMode::Supernodal, perm.empty() ? perm : linalg::expand_ordering(perm, 4)));
+          context.cholesky_options(linalg::CholmodMode::Supernodal, true, 4));
     }
   }
   double assemble(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces, const Eigen::VectorXd& areas,
@@ -132,240 +119,269 @@ Eigen::VectorXd project_admissible(const Eigen::VectorXd& g, const Eigen::Vector
   return out;
 }
 
-}  // namespace
-
-void normalise_area_and_centre(Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces) {
-  const Eigen::VectorXd mass = geometry::lumped_mass(x, faces);
-  const double area = mass.sum();
-  const Eigen::Vector3d c = geometry::area_weighted_centroid(x, mass);
-  x.rowwise() -= c.transpose();
-  x *= std::sqrt(4.0 * std::numbers::pi / area);
+void fail_solver(FlowResult& result, const std::string& message) {
+  result.status = MapStatus::SolverFailed;
+  result.failed_check = MapCheck::Solver;
+  result.stop = FlowStop::SolverFailed;
+  result.message = message;
 }
 
-FlowResult willmore_flow(const Mesh& mesh, const WillmoreOptions& options, LinearSolverKind solver_kind,
-                         const geometry::IntrinsicOptions& laplacian_options, const Deadline& deadline,
-                         const Eigen::MatrixX3d* start, const CpuBudget& budget) {
-  FlowResult result;
+void stop_for_budget(FlowResult& result, const std::string& message) {
+  result.status = MapStatus::NotConverged;
+  result.failed_check = MapCheck::TimeBudget;
+  result.stop = FlowStop::TimeBudget;
+  result.message = message;
+}
+
+// One flow of one mesh: the solvers (symbolic analysis once), the current surface and the trace.
+class WillmoreRun {
+ public:
+  WillmoreRun(const MapContext& context, const WillmoreOptions& options, const FlowControl& control)
+      : context_(context), faces_(context.faces()), options_(options), control_(control),
+        laplacian_(flow_operator(context.laplacian())), dirac_(context, options.complex_dirac),
+        poisson_solver_(context.cholesky_options(linalg::CholmodMode::Auto, true)),
+        filter_solver_(context.cholesky_options(linalg::CholmodMode::Auto, true)) {
+    eigen_options_.max_iterations = options.max_inverse_iterations;
+  }
+
+  FlowResult run() {
+    state_.x = control_.start ? *control_.start : context_.normalised_input();
+    if (control_.start) normalise_area_and_centre(state_.x, faces_);
+    update_state(faces_, laplacian_, state_);
+    result_.operator_stats = state_.operator_stats;
+    result_.initial_energy = result_.energy = state_.energy;
+    result_.initial_roundness = result_.roundness = state_.roundness;
+    result_.vertices = state_.x;
+    if (!state_.finite) {
+      result_.status = MapStatus::SolverFailed;
+      result_.failed_check = MapCheck::NonFinite;
+      result_.stop = FlowStop::NonFinite;
+      result_.message = "input geometry gives non-finite curvature or zero-area faces";
+      return std::move(result_);
+    }
+    tau_ = options_.tau;
+    bool stopped = false;
+    for (int step = 1; step <= options_.max_steps && !stopped; ++step) {
+      control_.deadline.check("willmore flow step");
+      if (state_.roundness < options_.roundness_tolerance) {
+        result_.stop = FlowStop::Converged;
+        break;
+      }
+      if (control_.budget.expired()) {  // soft budget of the chain: stop here, the surface so far is verified as it is
+        stop_for_budget(result_, "flow time budget spent after " + std::to_string(step - 1) + " steps at roundness " +
+                                     std::to_string(state_.roundness));
+        stopped = true;
+        break;
+      }
+      stopped = take_step(step);
+    }
+    if (result_.status == MapStatus::Ok && !stopped && state_.roundness >= options_.roundness_tolerance) {
+      result_.hit_step_cap = true;
+      result_.status = MapStatus::NotConverged;
+      result_.failed_check = MapCheck::Roundness;
+      result_.stop = FlowStop::StepCap;
+      result_.message = "roundness " + std::to_string(state_.roundness) + " above tolerance " +
+                        std::to_string(options_.roundness_tolerance) + " after " + std::to_string(options_.max_steps) +
+                        " steps";
+    }
+    return std::move(result_);
+  }
+
+ private:
   // The spin transformation transforms the edges OF THE IMMERSION (CPS11): the Poisson step must integrate the
   // transformed edges of the mesh's own triangles, whose cotans make ω consistent with 𝔼. An intrinsic Delaunay
   // edge is a geodesic across two triangles, not an edge of the immersion, and its transformed chord is not what λ
   // prescribes (measured: camel 4720 flips, bull degree −1 with it). The flow therefore uses the MOLLIFIED
   // operator on the mesh's own triangles (finite on zero-area faces); cMCF and the linear map use intrinsic
   // Delaunay.
-  geometry::IntrinsicOptions flow_operator = laplacian_options;
-  if (flow_operator.kind == geometry::LaplacianKind::IntrinsicDelaunay)
-    flow_operator.kind = geometry::LaplacianKind::Mollified;
-  const geometry::IntrinsicOptions& laplacian = flow_operator;
-  const Eigen::MatrixX3i& faces = mesh.faces;
-  const geometry::VertexPattern pattern = geometry::build_vertex_pattern(mesh.vertex_count(), faces);
-  const std::vector<int> perm =
-      solver_kind == LinearSolverKind::Cholmod ? linalg::metis_ordering(pattern.pattern) : std::vector<int>{};
-  DiracSystem dirac(pattern, options.complex_dirac, solver_kind, perm);
-  linalg::SparseCholesky poisson_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto, perm));
-  linalg::SparseCholesky filter_solver(cholesky_options(solver_kind, linalg::CholmodMode::Auto, perm));
-  EigenSolveOptions eigen_options;
-  eigen_options.max_iterations = options.max_inverse_iterations;
-
-  SurfaceState state;
-  state.x = start ? *start : mesh.vertices;
-  normalise_area_and_centre(state.x, faces);
-  update_state(faces, laplacian, state);
-  result.operator_stats = state.operator_stats;
-  result.initial_energy = result.energy = state.energy;
-  result.initial_roundness = result.roundness = state.roundness;
-  result.vertices = state.x;
-  if (!state.finite) {
-    result.status = MapStatus::SolverFailed;
-    result.failed_check = MapCheck::NonFinite;
-    result.stop = FlowStop::NonFinite;
-    result.message = "input geometry gives non-finite curvature or zero-area faces";
-    return result;
+  static geometry::IntrinsicOptions flow_operator(geometry::IntrinsicOptions o) {
+    if (o.kind == geometry::LaplacianKind::IntrinsicDelaunay) o.kind = geometry::LaplacianKind::Mollified;
+    return o;
   }
 
-  Eigen::SparseMatrix<double> filter_matrix;
-  Eigen::VectorXd lambda;
-  double tau = options.tau;
-  bool stopped = false;
-  for (int step = 1; step <= options.max_steps && !stopped; ++step) {
-    deadline.check("willmore flow step");
-    if (state.roundness < options.roundness_tolerance) {
-      result.stop = FlowStop::Converged;
-      break;
-    }
-    if (budget.expired()) {  // soft budget of the chain: stop here, the surface so far is verified as it is
-      result.status = MapStatus::NotConverged;
-      result.failed_check = MapCheck::TimeBudget;
-      result.stop = FlowStop::TimeBudget;
-      result.message = "flow time budget spent after " + std::to_string(step - 1) + " steps at roundness " +
-                       std::to_string(state.roundness);
-      stopped = true;
-      break;
-    }
-    bool accepted = false;
-    while (!accepted) {
-      const Clock::time_point t_step = Clock::now();
+  enum class Try { Accepted, Rejected, Failed };
+
+  // Tries step `step` with the current τ until it is accepted or the flow stops; true when the flow stops.
+  bool take_step(int step) {
+    for (;;) {
       FlowStepRecord rec;
-      rec.step = step;
-      rec.tau = tau;
-      // Curvature change ρ = −τ P(H) (or of the low-pass filtered H).
-      Clock::time_point t0 = Clock::now();
-      Eigen::VectorXd g = state.h;
-      bool filter_failed = false;
-      if (options.filtered) {
-        const double edge = geometry::mean_edge_length(state.x, faces);
-        const double sigma = options.filter_strength * edge * edge;
-        Eigen::SparseMatrix<double> mass_matrix(state.mass.size(), state.mass.size());
-        mass_matrix.setIdentity();
-        mass_matrix.diagonal() = state.mass;
-        filter_matrix = sigma * state.laplacian + mass_matrix;  // the intrinsic pattern changes with the flips
-        if (filter_solver.analyze(filter_matrix) && filter_solver.factorize(filter_matrix)) {
-          g = filter_solver.solve(Eigen::VectorXd(state.mass.cwiseProduct(state.h)));
-        } else {
-          filter_failed = true;
-        }
-      }
-      if (filter_failed) {
-        result.status = MapStatus::SolverFailed;
-        result.failed_check = MapCheck::Solver;
-        result.stop = FlowStop::SolverFailed;
-        result.message = "filter factorisation failed: " + filter_solver.message();
-        rec.accepted = false;
-        rec.note = result.message;
-        result.steps.push_back(rec);
-        stopped = true;
-        break;
-      }
-      const Eigen::VectorXd rho = -tau * project_admissible(g, state.mass, state.normals);
-      const double mean_diag = dirac.assemble(state.x, faces, state.areas, rho);
-      rec.geometry_seconds = seconds_since(t0);
-      // λ: smallest eigenvector of 𝔼(ρ).
-      const EigenSolveReport eig = dirac.solve(mean_diag, eigen_options, lambda);
-      dirac.release_factor();  // one numeric factor alive at a time: the Poisson one is next
-      rec.factor_seconds = eig.factor_seconds;
-      rec.eigen_seconds = eig.solve_seconds;
-      rec.eigen_residual = eig.residual;
-      rec.rayleigh = eig.rayleigh;
-      rec.inverse_iterations = eig.iterations;
-      rec.eigen_shift = eig.shift;
-      if (!eig.ok) {
-        rec.accepted = false;
-        rec.note = eig.message;
-        rec.seconds = seconds_since(t_step);
-        result.steps.push_back(rec);
-        result.status = MapStatus::SolverFailed;
-        result.failed_check = MapCheck::Solver;
-        result.stop = FlowStop::SolverFailed;
-        result.message = "step " + std::to_string(step) + ": " + eig.message;
-        stopped = true;
-        break;
-      }
-      // New positions: divergence of the transformed edges, pinned Poisson solve.
-      t0 = Clock::now();
-      Eigen::MatrixX3d omega = spin_divergence(state.x, state.edges, lambda);
-      omega.row(0).setZero();
-      Eigen::SparseMatrix<double> pinned;  // scoped to the step: not alive during the next Dirac factorisation
-      pin_vertex(state.laplacian, 0, pinned);
       SurfaceState next;
-      bool poisson_ok = poisson_solver.analyze(pinned) && poisson_solver.factorize(pinned);
-      if (poisson_ok) {
-        next.x = poisson_solver.solve(omega);
-        poisson_solver.release_values();
-        normalise_area_and_centre(next.x, faces);
-        update_state(faces, laplacian, next);
-      }
-      rec.poisson_seconds = seconds_since(t0);
-      if (!poisson_ok) {
-        rec.accepted = false;
-        rec.note = "Poisson factorisation failed: " + poisson_solver.message();
-        rec.seconds = seconds_since(t_step);
-        result.steps.push_back(rec);
-        result.status = MapStatus::SolverFailed;
-        result.failed_check = MapCheck::Solver;
-        result.stop = FlowStop::SolverFailed;
-        result.message = "step " + std::to_string(step) + ": " + rec.note;
-        stopped = true;
-        break;
-      }
-      rec.energy = next.energy;
-      rec.roundness = next.roundness;
       std::string reject;
-      if (!next.finite)
-        reject = "non_finite";
-      else if (next.energy > state.energy * (1.0 + options.energy_increase_tolerance))
-        reject = "energy";
-      else if (eig.residual > options.max_eigen_residual)
-        reject = "eigen_residual";
-      rec.seconds = seconds_since(t_step);
-      if (!reject.empty()) {
-        rec.accepted = false;
-        rec.note = reject;
-        result.steps.push_back(rec);
-        tau *= 0.5;
-        if (std::abs(tau) < options.min_tau) {
-          result.message = "step " + std::to_string(step) + " rejected (" + reject + ") down to tau " +
-                           std::to_string(tau * 2) + " < 2*min_tau";
-          if (reject == "energy") {
-            // No step of any size lowers the energy: the flow has stalled at its discrete minimum. Like an energy
-            // plateau this is a stop, not a failure; the map is judged by verification (docs/design/spherical-map.md §7).
-            result.message = "stalled: " + result.message;
-            result.stop = FlowStop::EnergyStall;
-          } else {
-            result.status = MapStatus::NotConverged;
-            result.failed_check = reject == "non_finite" ? MapCheck::NonFinite : MapCheck::EigenResidual;
-            result.stop = FlowStop::RejectedSteps;
-          }
-          stopped = true;
-          break;
-        }
-        // The budget inside the rejection loop too: up to log2(tau/min_tau) ≈ 4 retries of a full step (a Dirac and
-        // a Poisson factorisation each) would otherwise run past it by up to four step costs (issue 11's time
-        // bound). The surface is the last accepted one, verified as it is.
-        if (budget.expired()) {
-          result.status = MapStatus::NotConverged;
-          result.failed_check = MapCheck::TimeBudget;
-          result.stop = FlowStop::TimeBudget;
-          result.message = "flow time budget spent in step " + std::to_string(step) + " after a rejected try (" +
-                           reject + ", tau " + std::to_string(tau * 2) + ") at roundness " +
-                           std::to_string(state.roundness);
-          stopped = true;
-          break;
-        }
-        continue;
-      }
-      accepted = true;
-      result.steps.push_back(rec);
-      const double previous_energy = state.energy, previous_roundness = state.roundness;
-      state = std::move(next);
-      result.vertices = state.x;
-      result.energy = state.energy;
-      result.roundness = state.roundness;
-      if (state.roundness < options.roundness_tolerance) {
-        stopped = true;
-        result.stop = FlowStop::Converged;
-      } else if ((previous_energy - state.energy) < options.energy_tolerance * previous_energy) {
-        stopped = true;  // energy plateau: further steps change nothing
-        result.stop = FlowStop::EnergyPlateau;
-        result.message = "stalled: energy decrease below " + std::to_string(options.energy_tolerance) +
-                         " at roundness " + std::to_string(state.roundness);
-      } else if (previous_roundness - state.roundness < options.roundness_stall * previous_roundness &&
-                 previous_energy - state.energy < options.roundness_stall_energy * previous_energy) {
-        stopped = true;  // roundness plateau
-        result.stop = FlowStop::RoundnessPlateau;
-        result.message = "stalled: roundness " + std::to_string(state.roundness) + " fell by less than " +
-                         std::to_string(options.roundness_stall) + " of itself in step " + std::to_string(step);
-      }
+      const Try outcome = try_step(step, rec, next, reject);
+      if (outcome == Try::Failed) return true;
+      if (outcome == Try::Accepted) return accept(step, std::move(next));
+      if (reject_step(step, reject)) return true;
     }
   }
-  if (result.status == MapStatus::Ok && !stopped && state.roundness >= options.roundness_tolerance) {
-    result.hit_step_cap = true;
-    result.status = MapStatus::NotConverged;
-    result.failed_check = MapCheck::Roundness;
-    result.stop = FlowStop::StepCap;
-    result.message = "roundness " + std::to_string(state.roundness) + " above tolerance " +
-                     std::to_string(options.roundness_tolerance) + " after " + std::to_string(options.max_steps) +
-                     " steps";
+
+  // The curvature change's source: H, or the low-pass filtered H_σ = (M + σL)⁻¹ M H. False when the filter's
+  // factorisation fails.
+  bool curvature_source(Eigen::VectorXd& g) {
+    g = state_.h;
+    if (!options_.filtered) return true;
+    const double edge = geometry::mean_edge_length(state_.x, faces_);
+    const double sigma = options_.filter_strength * edge * edge;
+    Eigen::SparseMatrix<double> mass_matrix(state_.mass.size(), state_.mass.size());
+    mass_matrix.setIdentity();
+    mass_matrix.diagonal() = state_.mass;
+    filter_matrix_ = sigma * state_.laplacian + mass_matrix;  // the intrinsic pattern changes with the flips
+    if (!(filter_solver_.analyze(filter_matrix_) && filter_solver_.factorize(filter_matrix_))) return false;
+    g = filter_solver_.solve(Eigen::VectorXd(state_.mass.cwiseProduct(state_.h)));
+    return true;
   }
-  return result;
+
+  // One try at the current τ: ρ, λ, the Poisson solve and the new surface's state. Rejected with a reason
+  // ("non_finite", "energy", "eigen_residual"), or Failed (a solver failure; result_ says which).
+  Try try_step(int step, FlowStepRecord& rec, SurfaceState& next, std::string& reject) {
+    const Clock::time_point t_step = Clock::now();
+    rec.step = step;
+    rec.tau = tau_;
+    Clock::time_point t0 = Clock::now();
+    Eigen::VectorXd g;
+    if (!curvature_source(g)) {
+      fail_solver(result_, "filter factorisation failed: " + filter_solver_.message());
+      rec.accepted = false;
+      rec.note = result_.message;
+      result_.steps.push_back(rec);
+      return Try::Failed;
+    }
+    const Eigen::VectorXd rho = -tau_ * project_admissible(g, state_.mass, state_.normals);
+    const double mean_diag = dirac_.assemble(state_.x, faces_, state_.areas, rho);
+    rec.geometry_seconds = seconds_since(t0);
+    // λ: smallest eigenvector of 𝔼(ρ).
+    const EigenSolveReport eig = dirac_.solve(mean_diag, eigen_options_, lambda_);
+    dirac_.release_factor();  // one numeric factor alive at a time: the Poisson one is next
+    rec.factor_seconds = eig.factor_seconds;
+    rec.eigen_seconds = eig.solve_seconds;
+    rec.eigen_residual = eig.residual;
+    rec.rayleigh = eig.rayleigh;
+    rec.inverse_iterations = eig.iterations;
+    rec.eigen_shift = eig.shift;
+    if (!eig.ok) {
+      rec.accepted = false;
+      rec.note = eig.message;
+      rec.seconds = seconds_since(t_step);
+      result_.steps.push_back(rec);
+      fail_solver(result_, "step " + std::to_string(step) + ": " + eig.message);
+      return Try::Failed;
+    }
+    // New positions: divergence of the transformed edges, pinned Poisson solve.
+    t0 = Clock::now();
+    const bool poisson_ok = poisson_step(next);
+    rec.poisson_seconds = seconds_since(t0);
+    if (!poisson_ok) {
+      rec.accepted = false;
+      rec.note = "Poisson factorisation failed: " + poisson_solver_.message();
+      rec.seconds = seconds_since(t_step);
+      result_.steps.push_back(rec);
+      fail_solver(result_, "step " + std::to_string(step) + ": " + rec.note);
+      return Try::Failed;
+    }
+    rec.energy = next.energy;
+    rec.roundness = next.roundness;
+    if (!next.finite)
+      reject = "non_finite";
+    else if (next.energy > state_.energy * (1.0 + options_.energy_increase_tolerance))
+      reject = "energy";
+    else if (eig.residual > options_.max_eigen_residual)
+      reject = "eigen_residual";
+    rec.seconds = seconds_since(t_step);
+    if (!reject.empty()) rec.accepted = false;
+    rec.note = reject;
+    result_.steps.push_back(rec);
+    return reject.empty() ? Try::Accepted : Try::Rejected;
+  }
+
+  // x̃ from L x̃ = ω (vertex 0 pinned), normalised, with its state; false when the factorisation fails.
+  bool poisson_step(SurfaceState& next) {
+    Eigen::MatrixX3d omega = spin_divergence(state_.x, state_.edges, lambda_);
+    omega.row(0).setZero();
+    Eigen::SparseMatrix<double> pinned;  // scoped to the step: not alive during the next Dirac factorisation
+    pin_vertex(state_.laplacian, 0, pinned);
+    if (!(poisson_solver_.analyze(pinned) && poisson_solver_.factorize(pinned))) return false;
+    next.x = poisson_solver_.solve(omega);
+    poisson_solver_.release_values();
+    normalise_area_and_centre(next.x, faces_);
+    update_state(faces_, laplacian_, next);
+    return true;
+  }
+
+  // After a rejected try: τ halved; true when the flow stops (τ below min_tau, or the budget spent).
+  bool reject_step(int step, const std::string& reject) {
+    tau_ *= 0.5;
+    if (std::abs(tau_) < options_.min_tau) {
+      result_.message = "step " + std::to_string(step) + " rejected (" + reject + ") down to tau " +
+                        std::to_string(tau_ * 2) + " < 2*min_tau";
+      if (reject == "energy") {
+        // No step of any size lowers the energy: the flow has stalled at its discrete minimum. Like an energy
+        // plateau this is a stop, not a failure; the map is judged by verification (docs/design/spherical-map.md §7).
+        result_.message = "stalled: " + result_.message;
+        result_.stop = FlowStop::EnergyStall;
+      } else {
+        result_.status = MapStatus::NotConverged;
+        result_.failed_check = reject == "non_finite" ? MapCheck::NonFinite : MapCheck::EigenResidual;
+        result_.stop = FlowStop::RejectedSteps;
+      }
+      return true;
+    }
+    // The budget inside the rejection loop too: up to log2(tau/min_tau) ≈ 4 retries of a full step (a Dirac and a
+    // Poisson factorisation each) would otherwise run past it by up to four step costs (issue 11's time bound).
+    // The surface is the last accepted one, verified as it is.
+    if (control_.budget.expired()) {
+      stop_for_budget(result_, "flow time budget spent in step " + std::to_string(step) + " after a rejected try (" +
+                                   reject + ", tau " + std::to_string(tau_ * 2) + ") at roundness " +
+                                   std::to_string(state_.roundness));
+      return true;
+    }
+    return false;
+  }
+
+  // Takes the accepted surface; true when a stopping criterion is met (converged or a plateau).
+  bool accept(int step, SurfaceState next) {
+    const double previous_energy = state_.energy, previous_roundness = state_.roundness;
+    state_ = std::move(next);
+    result_.vertices = state_.x;
+    result_.energy = state_.energy;
+    result_.roundness = state_.roundness;
+    if (state_.roundness < options_.roundness_tolerance) {
+      result_.stop = FlowStop::Converged;
+      return true;
+    }
+    if ((previous_energy - state_.energy) < options_.energy_tolerance * previous_energy) {
+      result_.stop = FlowStop::EnergyPlateau;  // further steps change nothing
+      result_.message = "stalled: energy decrease below " + std::to_string(options_.energy_tolerance) +
+                         " at roundness " + std::to_string(state_.roundness);
+      return true;
+    }
+    if (previous_roundness - state_.roundness < options_.roundness_stall * previous_roundness &&
+        previous_energy - state_.energy < options_.roundness_stall_energy * previous_energy) {
+      result_.stop = FlowStop::RoundnessPlateau;
+      result_.message = "stalled: roundness " + std::to_string(state_.roundness) + " fell by less than " +
+                        std::to_string(options_.roundness_stall) + " of itself in step " + std::to_string(step);
+      return true;
+    }
+    return false;
+  }
+
+  const MapContext& context_;
+  const Eigen::MatrixX3i& faces_;
+  const WillmoreOptions& options_;
+  const FlowControl& control_;
+  const geometry::IntrinsicOptions laplacian_;
+  DiracSystem dirac_;
+  linalg::SparseCholesky poisson_solver_, filter_solver_;
+  EigenSolveOptions eigen_options_;
+  Eigen::SparseMatrix<double> filter_matrix_;
+  Eigen::VectorXd lambda_;
+  SurfaceState state_;
+  FlowResult result_;
+  double tau_ = 0;
+};
+
+}  // namespace
+
+FlowResult willmore_flow(const MapContext& context, const WillmoreOptions& options, const FlowControl& control) {
+  return WillmoreRun(context, options, control).run();
 }
 
 }  // namespace wish::spherical

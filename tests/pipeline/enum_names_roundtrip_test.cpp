@@ -27,7 +27,7 @@ void expect_round_trip(std::initializer_list<E> all, Parse parse) {
 }
 
 TEST(EnumNamesRoundTrip, EveryParsedEnum) {
-  expect_round_trip({MapMethod::Willmore, MapMethod::Cmcf, MapMethod::Linear}, map_method_from_name);
+  expect_round_trip({MapMethod::Willmore, MapMethod::Cmcf, MapMethod::Linear, MapMethod::Progressive}, map_method_from_name);
   expect_round_trip({LinearSolverKind::Cholmod, LinearSolverKind::EigenSimplicial}, linear_solver_from_name);
   expect_round_trip({FitWeighting::Area, FitWeighting::Uniform}, fit_weighting_from_name);
   expect_round_trip({FitSolver::Direct, FitSolver::Banded}, fit_solver_from_name);

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/common/errors.hpp"
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 
 namespace wish::server {
 namespace {

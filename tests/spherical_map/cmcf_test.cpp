@@ -23,12 +23,12 @@ CmcfOptions never_stopping(int steps) {
 
 TEST(Cmcf, AContinuedFlowIsTheSameFlowRunLonger) {
   const Mesh cigar = testing::make_ellipsoid(3.0, 1.0, 1.0, 3);
-  const spherical::FlowResult whole = spherical::cmcf_flow(cigar, never_stopping(12), LinearSolverKind::Cholmod);
-  const spherical::FlowResult first = spherical::cmcf_flow(cigar, never_stopping(5), LinearSolverKind::Cholmod);
+  const spherical::FlowResult whole = spherical::cmcf_flow(spherical::MapContext(cigar), never_stopping(12));
+  const spherical::FlowResult first = spherical::cmcf_flow(spherical::MapContext(cigar), never_stopping(5));
   ASSERT_TRUE(first.hit_step_cap);
   const Eigen::MatrixX3d& resume = first.last.size() > 0 ? first.last : first.vertices;
   const spherical::FlowResult rest =
-      spherical::cmcf_flow(cigar, never_stopping(7), LinearSolverKind::Cholmod, {}, {}, {}, &resume);
+      spherical::cmcf_flow(spherical::MapContext(cigar), never_stopping(7), {{}, {}, &resume});
   ASSERT_EQ(whole.steps.size(), 12u);
   ASSERT_EQ(rest.steps.size(), 7u);
   for (size_t k = 0; k < rest.steps.size(); ++k)
@@ -42,7 +42,7 @@ TEST(Cmcf, AFlowStoppedShortHandsBackItsRoundestSurface) {
   // A flattened 6:1 ellipsoid: R falls for about ten steps, then climbs as the thin rim pinches (measured 0.37 at
   // step 3, 0.45 at step 20, 1.6 at step 40).
   const Mesh m = testing::make_ellipsoid(3.0, 0.5, 0.3, 4);
-  const spherical::FlowResult flow = spherical::cmcf_flow(m, never_stopping(40), LinearSolverKind::Cholmod);
+  const spherical::FlowResult flow = spherical::cmcf_flow(spherical::MapContext(m), never_stopping(40));
   ASSERT_EQ(flow.steps.size(), 40u);
   double roundest = flow.initial_roundness;
   for (const FlowStepRecord& s : flow.steps) roundest = std::min(roundest, s.roundness);

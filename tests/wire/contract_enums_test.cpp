@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/spherical_map/map_method_names.hpp"
+#include "core/spherical_map/map_types.hpp"
 #include "wire/contract_enums.hpp"
 
 namespace wish::wire {

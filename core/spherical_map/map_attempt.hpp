@@ -1,0 +1,71 @@
+#pragma once
+// One attempt of the map chain (map_chain.hpp): run one method, take its surface to the sphere (radial projection
+// about the area-weighted centroid, mirrored first if the flow everted it), Möbius-balance with the input's vertex
+// areas, repair a few bad faces locally (chart_untangle.hpp, then untangle.hpp; bounded by the chain's CPU budget),
+// and verify (map_verification.hpp). A map that fails verification is never Ok.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/cpu_budget.hpp"
+#include "core/geometry/intrinsic_laplacian.hpp"
+#include "core/spherical_map/flow_result.hpp"
+#include "core/spherical_map/map_context.hpp"
+#include "core/spherical_map/map_options.hpp"
+#include "core/spherical_map/map_types.hpp"
+#include "core/spherical_map/map_verification.hpp"
+
+namespace wish {
+
+// One entry of the chain (plan_attempts()).
+struct MapAttemptPlan {
+  MapMethod method = MapMethod::Willmore;
+  bool filtered = false;
+  int max_steps = 0;
+  int continue_from = -1;  // Willmore: continue the flowed surface of this earlier attempt (if it hit its cap)
+  bool clamp = false;      // linear: always use the clamped (all-positive) weights
+  bool operator==(const MapAttemptPlan&) const = default;
+};
+
+// One try of one method (the first try and each fallback).
+struct MapAttempt {
+  MapMethod method = MapMethod::Willmore;
+  bool filtered = false;
+  int max_steps = 0;
+  MapStatus status = MapStatus::Ok;
+  MapCheck failed_check = MapCheck::None;
+  FlowStop stop = FlowStop::None;    // Added: why the flow stopped
+  std::string message;
+  MapQuality quality;
+  geometry::IntrinsicStats operator_stats;  // Added: mollification / flips of the operator this attempt used
+  std::vector<FlowStepRecord> steps;
+  double seconds = 0;
+  double cpu_seconds = 0;            // Added: CPU seconds of the calling thread (what the flow budget counts)
+  double repair_cpu_seconds = 0;     // Added: of which the local repair (untangling) of the map
+  bool repair_budget_stopped = false;  // Added: the repair stopped because the chain budget was spent
+  // Added: the flowed surface came out inside out (negative signed volume; cMCF through a flat state) and was
+  // mirrored before the radial projection (map_attempt.cpp).
+  bool everted = false;
+  bool hit_step_cap = false;         // Added: the flow ran out of steps (so "more steps" may help)
+  bool map_verified = false;         // Added: the map passed verification (it may still be NotConverged)
+  int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
+  bool clamped_weights = false;      // Added: a linear attempt that used the clamped (Tutte) weights
+};
+
+namespace spherical {
+
+struct AttemptRun {
+  MapAttempt attempt;
+  Eigen::MatrixX3d sphere;   // the verified (or failed) map, V×3 unit vectors
+  Eigen::MatrixX3d flowed;   // where a continued flow starts (the flow's last surface)
+};
+
+// control: the request deadline, the flow's CPU budget and the surface to continue (plan.continue_from);
+// repair_budget: the CPU budget of the local repair.
+AttemptRun run_attempt(const MapContext& context, const MapAttemptPlan& plan, const SphericalMapOptions& options,
+                       const FlowControl& control, const CpuBudget& repair_budget);
+
+}  // namespace spherical
+}  // namespace wish
