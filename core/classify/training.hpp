@@ -50,6 +50,8 @@ struct NestedCvResult {
   std::vector<double> scores;                       // one per outer fold and repeat
   std::vector<std::pair<double, double>> chosen;    // (C, gamma) picked by each inner search
   double mean = 0, std = 0;
+  // Over every inner grid search: split fits run, fits stopped at libsvm's iteration cap, cells skipped by early stop.
+  int fits = 0, capped_fits = 0, cells_skipped = 0;
 };
 
 struct TrainingReport {
@@ -64,6 +66,7 @@ struct TrainingReport {
   std::vector<int> train_indices, test_indices;  // into the samples given
   GridSearchResult grid;
   double train_accuracy = 0;
+  int final_fit_cap_warnings = 0;                // the shipped model's fit: solvers stopped at libsvm's iteration cap
   ClassificationMetrics test;                    // on the hold-out split
   NestedCvResult nested;
   double seconds_total = 0, seconds_nested = 0;
