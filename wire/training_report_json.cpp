@@ -80,6 +80,12 @@ nlohmann::json training_report_json(const TrainingReport& r) {
         {"chosen", chosen}, {"seconds", r.seconds_nested}, {"fits", r.nested.fits},
         {"capped_fits", r.nested.capped_fits}, {"cells_skipped", r.nested.cells_skipped}}},
       {"seconds", r.seconds_total}};
+  if (!r.test_novel.empty() || r.novelty_threshold > 0) {
+    int flagged = 0;
+    for (bool b : r.test_novel) flagged += b;
+    doc["novelty"] = {{"threshold", r.novelty_threshold}, {"quantile", r.novelty_quantile}, {"test_samples", r.test_novel.size()}, {"test_flagged", flagged},
+                      {"test_scores", r.test_novelty}};
+  }
   return doc;
 }
 

@@ -12,6 +12,7 @@
 #include "core/classify/class_spectra.hpp"
 #include "core/classify/classifier_state.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/novelty.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/classify/standard_scaler.hpp"
 #include "core/classify/svm_engine.hpp"
@@ -236,6 +237,19 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
     svm = SvmEngine::train(final_scaler.transform(X), y, params, static_cast<unsigned>(seed_svm), &rep.final_fit_cap_warnings);
   }
   auto state = std::make_shared<ClassifierModel::State>(std::move(svm));
+  if (options.novelty) {
+    // On the samples the final SVM was fitted on, in its standardised space.
+    state->novelty = calibrate_novelty(options.refit_on_all ? final_scaler.transform(X) : Xs_train, options.novelty_k,
+                                       options.novelty_quantile);
+    rep.novelty_threshold = novelty_threshold(*state->novelty, options.novelty_quantile);
+    rep.novelty_quantile = options.novelty_quantile;
+    if (!options.refit_on_all)  // the test split is new to this model: how many of the known types it flags
+      for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) {
+        const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose());
+        rep.test_novelty.push_back(a.score);
+        rep.test_novel.push_back(a.novel);
+      }
+  }
   state->name = options.name;
   state->version = options.version;
   state->classes = rep.classes;

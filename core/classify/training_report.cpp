@@ -66,6 +66,14 @@ std::string training_report_table(const TrainingReport& r) {
   if (!r.nested.scores.empty())
     o << "nested CV inner searches: " << r.nested.fits << " fits, " << r.nested.capped_fits
       << " stopped at the iteration cap, " << r.nested.cells_skipped << " cells skipped by early stop\n";
+  if (r.novelty_threshold > 0) {
+    int flagged = 0;
+    for (bool b : r.test_novel) flagged += b;
+    o << "novelty: threshold " << fmt("%.4g", r.novelty_threshold) << " (the " << fmt("%.3g", r.novelty_quantile)
+      << " quantile of the training set's leave-one-out k-NN distances)";
+    if (!r.test_novel.empty()) o << "; " << flagged << " of " << r.test_novel.size() << " held-out samples flagged novel";
+    o << "\n";
+  }
   if (r.final_fit_cap_warnings > 0)
     o << "the final model's fit: " << r.final_fit_cap_warnings << " solvers stopped at libsvm's iteration cap\n";
   o << "train accuracy " << fmt("%.3f", r.train_accuracy) << ", test accuracy " << fmt("%.3f", r.test.accuracy) << " on "
