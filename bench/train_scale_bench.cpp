@@ -193,7 +193,8 @@ int main(int argc, char** argv) {
   std::vector<Set> sets;
   for (int n : sizes) sets.push_back({"generated", generate(templ, n, spread, 1000 + static_cast<std::uint64_t>(n))});
   for (const auto& p : real_csvs) sets.push_back({fs::path(p).filename().string(), read_descriptor_table(read_text(p)).samples});
-  const fs::path script = fs::path(__FILE__).parent_path() / "train_scale_sklearn.py";
+  // Not __FILE__: with a compiler cache's base directory it is relative to the build directory.
+  const fs::path script = project_data.parent_path() / "bench" / "train_scale_sklearn.py";
   const fs::path tmp = fs::temp_directory_path() / ("wish_train_scale_" + std::to_string(::getpid()));
   fs::create_directories(tmp);
 
