@@ -31,6 +31,7 @@ struct PredictOptions {
   std::vector<std::string> files;
   std::string descriptors;
   bool json = false, csv = false, quiet = false;
+  double novelty_quantile = 0;  // 0: the model's own
   VolumeCliOptions volume;
 };
 
@@ -55,7 +56,12 @@ CommandRunner setup_predict(CLI::App& sub) {
                  "Descriptor CSV (xi_0..xi_L columns, as `wish describe --csv` writes) instead of mesh files")
       ->excludes(files);
   auto* json = sub.add_flag("--json", o->json, "JSON array, one object per file");
-  sub.add_flag("--csv", o->csv, "CSV: file, label_id, label, margin, p_<class>...")->excludes(json);
+  sub.add_flag("--csv", o->csv, "CSV: file, label_id, label, margin, novel, novelty_score, novelty_p_value, p_<class>...")
+      ->excludes(json);
+  sub.add_option("--novelty-quantile", o->novelty_quantile,
+                 "Flag a sample novel (none of the known types) when its novelty score is above this quantile of the "
+                 "training set's leave-one-out scores (0: the model's own, 0.99 by default)")
+      ->check(CLI::Range(0.0, 0.999999))->capture_default_str();
   sub.add_flag("--quiet", o->quiet, "No progress line for label volumes");
   add_volume_options(sub, o->volume);
   return [o]() {
@@ -64,9 +70,15 @@ CommandRunner setup_predict(CLI::App& sub) {
       throw InvalidInputError("invalid_parameter", "give mesh files or --descriptors CSV");
     bool ok = true;
     nlohmann::json results = nlohmann::json::array();
+    const wish::PredictOptions predict_options{o->novelty_quantile};
     auto record = [](nlohmann::json& r, const Prediction& p) {
       r["label"] = p.label;
       r["margin"] = p.margin;
+      // null: the model has no novelty calibration (a file written before format 3), so nothing was computed.
+      r["novel"] = p.novelty ? nlohmann::json(p.novelty->novel) : nlohmann::json(nullptr);
+      if (p.novelty)
+        r["novelty"] = {{"score", p.novelty->score}, {"p_value", p.novelty->p_value},
+                        {"threshold", p.novelty->threshold}, {"quantile", p.novelty->quantile}};
       nlohmann::json probs = nlohmann::json::object();
       for (const auto& [label, prob] : p.probabilities) probs[label] = prob;
       r["probabilities"] = probs;
@@ -91,7 +103,7 @@ CommandRunner setup_predict(CLI::App& sub) {
       for (const TrainingSample& sample : table.samples) {
         nlohmann::json r = {{"file", sample.id}};
         try {
-          record(r, model.predict(sample.features));
+          record(r, model.predict(sample.features, predict_options));
         } catch (const WishError& e) {
           fail(r, sample.id, e);
         }
@@ -117,7 +129,7 @@ CommandRunner setup_predict(CLI::App& sub) {
           volume_rows(file, bytes, volume, !o->quiet,
                       [&](const volume::VolumeObject&, Mesh mesh) -> std::optional<PipelineResult> {
                         PipelineResult res = describe_mesh(std::move(mesh), po);
-                        classify_described(res, model);
+                        classify_described(res, model, predict_options);
                         return res;
                       },
                       classified, [&](nlohmann::json& row, const WishError& e) { fail(row, row_name(row), e); },
@@ -127,6 +139,7 @@ CommandRunner setup_predict(CLI::App& sub) {
           continue;
         }
         PipelineOptions po;
+        po.novelty_quantile = o->novelty_quantile;
         const auto dot = file.find_last_of('.');
         if (dot != std::string::npos) po.read.hint = format_from_name(file.substr(dot));
         classified(r, classify_mesh_bytes(bytes, model, po));
@@ -143,7 +156,7 @@ CommandRunner setup_predict(CLI::App& sub) {
                        .dump(2)
                 << "\n";
     } else if (o->csv) {
-      std::cout << "file,label_id,label,margin";
+      std::cout << "file,label_id,label,margin,novel,novelty_score,novelty_p_value";
       for (const auto& c : classes) std::cout << ",p_" << c;
       std::cout << "\n" << std::setprecision(10);
       for (const auto& r : results) {
@@ -151,7 +164,14 @@ CommandRunner setup_predict(CLI::App& sub) {
         std::cout << csv_quote(r["file"].get<std::string>()) << ","
                   << (r.contains("label_id") ? std::to_string(r["label_id"].get<std::uint32_t>()) : "") << ","
                   << csv_quote(r["label"].get<std::string>()) << ","
-                  << r["margin"].get<double>();
+                  << r["margin"].get<double>() << ",";
+        // Empty novelty cells: the model has no novelty calibration.
+        if (r["novel"].is_boolean()) {
+          std::cout << (r["novel"].get<bool>() ? "true" : "false") << "," << r["novelty"]["score"].get<double>() << ","
+                    << r["novelty"]["p_value"].get<double>();
+        } else {
+          std::cout << ",,";
+        }
         for (const auto& c : classes) std::cout << "," << r["probabilities"][c].get<double>();
         std::cout << "\n";
       }
@@ -163,6 +183,9 @@ CommandRunner setup_predict(CLI::App& sub) {
         for (const auto& c : classes) std::cout << " " << c << " " << std::fixed << std::setprecision(3) << r["probabilities"][c].get<double>();
         std::cout.unsetf(std::ios::fixed);
         std::cout << ")";
+        if (r["novel"].is_boolean() && r["novel"].get<bool>())
+          std::cout << "  [NOVEL: unlike the training set (p = " << std::setprecision(3)
+                    << r["novelty"]["p_value"].get<double>() << "), none of the known types?]";
         if (r.contains("recipe_match") && !r["recipe_match"].get<bool>())
           std::cout << "  [off-recipe: map by " << r["method_used"].get<std::string>() << ", model's recipe "
                     << to_string(model.recipe().map.method) << "]";

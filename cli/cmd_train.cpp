@@ -61,6 +61,8 @@ struct TrainCliOptions {
   FeatureFamily features = FeatureFamily::Invariants;
   ScaleNormalization scale = ScaleNormalization::None;
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
+  bool early_stop = true;
+  double novelty_quantile = 0.99;
   std::uint64_t seed = 42;
   int jobs = 0;
   MapMethod method = MapMethod::Cmcf;
@@ -124,6 +126,13 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--nested-folds", o->nested_folds, "Outer folds of the nested CV")->check(CLI::Range(2, 20))->capture_default_str();
   sub.add_option("--c-range", o->c_range, "log10 of the first and last C")->expected(2)->capture_default_str();
   sub.add_option("--gamma-range", o->gamma_range, "log10 of the first and last gamma")->expected(2)->capture_default_str();
+  sub.add_flag("--early-stop,!--no-early-stop", o->early_stop,
+               "Grid search: stop a gamma row, C ascending, after 2 consecutive C whose mean validation accuracy is "
+               "more than 0.05 below the row's best (default on; --no-early-stop: every cell)");
+  sub.add_option("--novelty-quantile", o->novelty_quantile,
+                 "The model's default novelty threshold: this quantile of the training set's leave-one-out k-NN "
+                 "distances (a prediction above it says novel: true; predict/serve may override)")
+      ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
   sub.add_flag("--refit-all", o->refit_all, "Refit the final model on all samples (default: on the training split)");
   sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");
   sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
@@ -221,6 +230,8 @@ CommandRunner setup_train(CLI::App& sub) {
     t.grid.Cs = decade_grid(o->c_range[0], o->c_range[1]);
     t.grid.gammas = decade_grid(o->gamma_range[0], o->gamma_range[1]);
     t.grid.jobs = o->jobs;
+    t.grid.early_stop = o->early_stop;
+    t.novelty_quantile = o->novelty_quantile;
     t.grid_splits = o->grid_splits;
     t.test_fraction = o->test_fraction;
     t.nested_repeats = o->nested_repeats;

@@ -67,6 +67,7 @@ PipelineOptions base_options(const ComputeJob& job, const ServerConfig& config) 
   options.read.limits.max_faces = config.max_faces;
   options.read.hint = format_from_name(format_hint(job.params, job.part));
   if (job.params.include_reconstruction) options.reconstruction_level = job.params.reconstruction_level;
+  options.novelty_quantile = config.novelty_quantile;
   return options;
 }
 
@@ -153,7 +154,7 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
     PipelineResult result = describe_mesh(std::move(mesh), options, job.deadline);
     if (job.op == Operation::Classify) {
       const auto t = std::chrono::steady_clock::now();
-      classify_described(result, job.model->model);
+      classify_described(result, job.model->model, PredictOptions{options.novelty_quantile});
       result.timings.classify = seconds_between(t, std::chrono::steady_clock::now());
       result.timings.total += result.timings.classify;
     }

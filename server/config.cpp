@@ -24,6 +24,8 @@ void ServerConfig::finalize() {
   require(max_parts >= 1, "max parts must be >= 1");
   require(max_steps >= 1, "max steps must be >= 1");
   require(time_limit_seconds > 0, "time limit must be > 0");
+  require(novelty_quantile == 0 || (novelty_quantile > 0 && novelty_quantile < 1),
+          "novelty quantile must be 0 (each model's own) or between 0 and 1");
   require(volume_time_limit_seconds > 0, "volume time limit must be > 0");
   require(max_volume_voxels > 0 && max_volume_objects > 0 && max_object_box_voxels > 0,
           "volume voxel, object and object box limits must be > 0");
@@ -51,6 +53,7 @@ std::string ServerConfig::describe() const {
       << "max_volume_objects = " << max_volume_objects << "\n"
       << "max_object_box_voxels = " << max_object_box_voxels << "\n"
       << "time_limit_seconds = " << time_limit_seconds << "\n"
+      << "novelty_quantile = " << novelty_quantile << (novelty_quantile == 0 ? " (each model's own)" : "") << "\n"
       << "volume_time_limit_seconds = " << volume_time_limit_seconds << "\n"
       << "queue_size = " << queue_size << "\n"
       << "workers = " << workers << "\n"

@@ -28,6 +28,10 @@ struct ServerConfig {
   // refused (413 box_too_large), the others are still described.
   std::int64_t max_object_box_voxels = 64ll << 20;
 
+  // The novelty flag's threshold quantile for every model (core/classify/novelty.hpp); 0: each model's own (0.99
+  // unless it was trained with another).
+  double novelty_quantile = 0;
+
   double time_limit_seconds = 120;   // per request, from arrival (queue wait included); 504 past it
   double volume_time_limit_seconds = 600;  // the same for a request that uploads a label volume
   int queue_size = 32;               // jobs waiting for a worker; beyond: 503 + Retry-After

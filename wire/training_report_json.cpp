@@ -18,6 +18,17 @@ json matrix_json(const Eigen::MatrixXd& m) {
   return out;
 }
 
+// Skipped cells (early stop) are NaN in mean/std: nlohmann writes NaN as null, which is what the report means.
+json int_matrix_json(const Eigen::MatrixXi& m) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    json row = json::array();
+    for (Eigen::Index j = 0; j < m.cols(); ++j) row.push_back(m(i, j));
+    out.push_back(row);
+  }
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json training_report_json(const TrainingReport& r) {
@@ -53,16 +64,28 @@ nlohmann::json training_report_json(const TrainingReport& r) {
       {"grid",
        {{"C", r.grid.Cs}, {"gamma", r.grid.gammas}, {"mean_accuracy", matrix_json(r.grid.mean_score)},
         {"std_accuracy", matrix_json(r.grid.std_score)}, {"best_C", r.grid.C()}, {"best_gamma", r.grid.gamma()},
-        {"best_score", r.grid.best_score}, {"seconds", r.grid.seconds}}},
+        {"best_score", r.grid.best_score}, {"seconds", r.grid.seconds}, {"fits", r.grid.fits},
+        {"capped_fits", int_matrix_json(r.grid.capped_fits)}, {"capped_fits_total", r.grid.total_capped_fits()},
+        {"cells_skipped", r.grid.cells_skipped}, {"precomputed_kernel", r.grid.precomputed_kernel},
+        {"early_stop",
+         {{"enabled", r.grid.early_stop}, {"drop", r.grid.early_stop_drop}, {"patience", r.grid.early_stop_patience}}}}},
       {"train_accuracy", r.train_accuracy},
+      {"final_fit_capped_solvers", r.final_fit_cap_warnings},
       {"test",
        {{"samples", r.test_indices.size()}, {"accuracy", r.test.accuracy}, {"macro_f1", r.test.macro_f1},
         {"confusion_matrix", confusion}, {"confusion_rows", "true class"}, {"confusion_columns", "predicted class"},
         {"per_class", per_class}, {"predictions", test_samples}}},
       {"nested_cv",
        {{"folds", r.nested.scores.size()}, {"scores", r.nested.scores}, {"mean", r.nested.mean}, {"std", r.nested.std},
-        {"chosen", chosen}, {"seconds", r.seconds_nested}}},
+        {"chosen", chosen}, {"seconds", r.seconds_nested}, {"fits", r.nested.fits},
+        {"capped_fits", r.nested.capped_fits}, {"cells_skipped", r.nested.cells_skipped}}},
       {"seconds", r.seconds_total}};
+  if (!r.test_novel.empty() || r.novelty_threshold > 0) {
+    int flagged = 0;
+    for (bool b : r.test_novel) flagged += b;
+    doc["novelty"] = {{"threshold", r.novelty_threshold}, {"quantile", r.novelty_quantile}, {"test_samples", r.test_novel.size()}, {"test_flagged", flagged},
+                      {"test_scores", r.test_novelty}};
+  }
   return doc;
 }
 

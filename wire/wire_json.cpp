@@ -272,6 +272,18 @@ nlohmann::json prediction_json(const Prediction& p, const std::string& model_nam
                      {"probabilities", std::move(probs)},
                      {"margin", json_number(p.margin)},
                      {"model", {{"name", model_name}, {"version", model_version}}}};
+  out["novel"] = nullptr;
+  if (p.novelty) {
+    out["novel"] = p.novelty->novel;
+    out["novelty"] = {{"computed", true},
+                      {"score", json_number(p.novelty->score)},
+                      {"p_value", json_number(p.novelty->p_value)},
+                      {"threshold", json_number(p.novelty->threshold)},
+                      {"quantile", json_number(p.novelty->quantile)}};
+  } else {
+    out["novelty"] = {{"computed", false},
+                      {"reason", "the model has no novelty calibration (a model file written before format 3)"}};
+  }
   if (recipe) {
     out["recipe_match"] = recipe->match;
     out["method_used"] = to_string(recipe->method_used);

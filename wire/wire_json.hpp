@@ -61,7 +61,9 @@ ShDescriptor descriptor_from_json(const nlohmann::json& json);
 
 // Prediction: {"label", "probabilities": [{"label", "probability"}], "margin", "model": {"name", "version"}},
 // plus, when the recipe check ran: "recipe_match" (false: the map came from another method than the model's,
-// accepted by its off_recipe policy), "method_used", "recipe_method".
+// accepted by its off_recipe policy), "method_used", "recipe_method"; always "novel" (true: none of the known
+// types, by the model's novelty threshold; null: not computed) and "novelty" ({"computed": true, "score",
+// "p_value", "threshold", "quantile"} or {"computed": false, "reason"}).
 nlohmann::json prediction_json(const Prediction& prediction, const std::string& model_name,
                                const std::string& model_version,
                                const std::optional<RecipeConformance>& recipe = std::nullopt);

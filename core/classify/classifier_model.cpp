@@ -20,7 +20,12 @@ const DescriptorRecipe& ClassifierModel::recipe() const { return state_->recipe;
 const TrainingSummary& ClassifierModel::training_summary() const { return state_->summary; }
 const std::string& ClassifierModel::payload_sha256() const { return state_->payload_sha256; }
 
-Prediction ClassifierModel::predict(const ShapeFeatures& features) const {
+bool ClassifierModel::has_novelty() const { return state_->novelty.has_value(); }
+const NoveltyCalibration* ClassifierModel::novelty_calibration() const {
+  return state_->novelty ? &*state_->novelty : nullptr;
+}
+
+Prediction ClassifierModel::predict(const ShapeFeatures& features, const PredictOptions& options) const {
   const State& s = *state_;
   const Eigen::VectorXd x = s.scaler.transform(apply_feature_pipeline(features, s.recipe.features));
   const SvmOutput out = s.svm.predict(x);
@@ -44,6 +49,7 @@ Prediction ClassifierModel::predict(const ShapeFeatures& features) const {
   const int a = std::min(w, r), b = std::max(w, r);
   const double d = out.decision[a * k - a * (a + 1) / 2 + (b - a - 1)];
   p.margin = w == a ? d : -d;
+  if (s.novelty) p.novelty = assess_novelty(*s.novelty, x, options.novelty_quantile);
   return p;
 }
 

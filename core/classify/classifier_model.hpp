@@ -12,7 +12,10 @@
 
 #include <Eigen/Core>
 
+#include <optional>
+
 #include "core/classify/descriptor_recipe.hpp"
+#include "core/classify/novelty.hpp"
 
 namespace wish {
 
@@ -26,6 +29,13 @@ struct Prediction {
   std::string label;
   std::vector<std::pair<std::string, double>> probabilities;  // one per class, in the model's class order
   double margin = 0;  // decision value of the winning class against the runner-up (libsvm one-vs-one)
+  // How unlike the training set the sample is (novelty.hpp); empty when the model has no novelty calibration
+  // (model files written before issue 25).
+  std::optional<NoveltyAssessment> novelty;
+};
+
+struct PredictOptions {
+  double novelty_quantile = 0;  // threshold quantile of the novelty flag; <= 0: the model's own (0.99 by default)
 };
 
 // The spectrum of one class of the training set, for comparing a new shape's xi(l) with it (the web page draws it).
@@ -59,7 +69,9 @@ class ClassifierModel {
   // 2: the descriptor recipe (map + fit + features + off-recipe policy) in payload.recipe. Version 1 files
   // (payload.descriptor + payload.features) load through a migration with policy accept_flagged, which is
   // what version-1 code did with fallback maps.
-  static constexpr int kFormatVersion = 2;
+  // 3: payload.novelty (the novelty calibration, issue 25). A model with it is written as version 3, so a reader
+  // of versions 1..2 refuses it rather than silently ignoring the block; one without it is still written as 2.
+  static constexpr int kFormatVersion = 3;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.
@@ -71,7 +83,9 @@ class ClassifierModel {
   // Replays the feature pipeline and the scaler, then the SVM. The label is libsvm's one-vs-one vote winner
   // (as scikit-learn's SVC.predict), which can in rare ties differ from the most probable class.
   // Throws InvalidInputError("feature_mismatch") when `features` lack what the model needs.
-  Prediction predict(const ShapeFeatures& features) const;
+  Prediction predict(const ShapeFeatures& features, const PredictOptions& options = {}) const;
+  bool has_novelty() const;
+  const NoveltyCalibration* novelty_calibration() const;  // nullptr without one
 
   const std::string& name() const;
   const std::string& version() const;

@@ -2,6 +2,7 @@
 // Internal: what a ClassifierModel consists of. Built by training (training.cpp) or by loading a model file
 // (model_file.cpp); immutable afterwards and shared between copies.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@ struct ClassifierModel::State {
   StandardScaler scaler;
   SvmEngine svm;
   TrainingSummary summary;
+  std::optional<NoveltyCalibration> novelty;  // payload.novelty; absent in files written before issue 25
   std::string payload_sha256;        // filled by make_state()
 
   State(SvmEngine engine) : svm(std::move(engine)) {}

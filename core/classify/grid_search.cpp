@@ -1,13 +1,19 @@
 #include "core/classify/grid_search.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <limits>
+#include <numeric>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <mutex>
 #include <thread>
 
+#include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/svm_engine.hpp"
+#include "core/common/errors.hpp"
 
 namespace wish {
 
@@ -54,16 +60,26 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
 
 }  // namespace
 
-GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
-                             const GridSearchOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  GridSearchResult r;
-  r.Cs = options.Cs;
-  r.gammas = options.gammas;
+namespace {
+
+struct CellStats {
+  double mean = 0, std = 0;
+};
+
+CellStats stats_of(const std::vector<double>& scores) {
+  double sum = 0;
+  for (double v : scores) sum += v;  // sequential, as numpy for short arrays
+  const double mean = sum / static_cast<double>(scores.size());
+  double var = 0;
+  for (double v : scores) var += (v - mean) * (v - mean);
+  return {mean, std::sqrt(var / static_cast<double>(scores.size()))};
+}
+
+// The search before issue 25, kept as the exhaustive reference (precomputed_kernel and early_stop both off): every
+// cell in parallel, each fit with libsvm's own RBF kernel.
+void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
+                          const GridSearchOptions& options, GridSearchResult& r) {
   const int nc = static_cast<int>(r.Cs.size()), ng = static_cast<int>(r.gammas.size());
-  r.mean_score.setZero(nc, ng);
-  r.std_score.setZero(nc, ng);
-  // Training sets per split once; each cell trains on every split.
   std::vector<Eigen::MatrixXd> train_x, test_x;
   std::vector<std::vector<int>> train_y, test_y;
   for (const Split& s : splits) {
@@ -82,29 +98,119 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
     params.gamma = r.gammas[gi];
     params.probability = false;  // accuracy needs votes only; no rand(), so cells run concurrently
     std::vector<double> scores;
+    int capped = 0;
     for (std::size_t s = 0; s < splits.size(); ++s) {
-      const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0);
+      int warnings = 0;
+      const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
+      capped += warnings > 0;
       std::size_t correct = 0;
       for (Eigen::Index i = 0; i < test_x[s].rows(); ++i)
         correct += svm.predict_label(test_x[s].row(i).transpose()) == test_y[s][static_cast<std::size_t>(i)];
       scores.push_back(static_cast<double>(correct) / static_cast<double>(test_x[s].rows()));
     }
-    double sum = 0;
-    for (double v : scores) sum += v;  // sequential, as numpy for short arrays
-    const double mean = sum / static_cast<double>(scores.size());
-    double var = 0;
-    for (double v : scores) var += (v - mean) * (v - mean);
-    r.mean_score(ci, gi) = mean;
-    r.std_score(ci, gi) = std::sqrt(var / static_cast<double>(scores.size()));
+    const CellStats st = stats_of(scores);
+    r.mean_score(ci, gi) = st.mean;
+    r.std_score(ci, gi) = st.std;
+    r.capped_fits(ci, gi) = capped;
   });
+}
+
+// Gamma rows in parallel; in each row one kernel matrix (or libsvm's RBF per fit), C ascending, early stop.
+void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
+                    const GridSearchOptions& options, GridSearchResult& r) {
+  const int nc = static_cast<int>(r.Cs.size()), ng = static_cast<int>(r.gammas.size());
+  std::vector<int> c_order(nc);
+  std::iota(c_order.begin(), c_order.end(), 0);
+  std::stable_sort(c_order.begin(), c_order.end(), [&](int a, int b) { return r.Cs[a] < r.Cs[b]; });
+  const Eigen::MatrixXd D = options.precomputed_kernel ? pairwise_squared_distances(X) : Eigen::MatrixXd();
+  std::vector<Eigen::MatrixXd> train_x, test_x;
+  std::vector<std::vector<int>> train_y;
+  if (!options.precomputed_kernel)
+    for (const Split& s : splits) {
+      train_x.push_back(rows_of(X, s.train));
+      test_x.push_back(rows_of(X, s.test));
+      std::vector<int> a;
+      for (int i : s.train) a.push_back(y[i]);
+      train_y.push_back(std::move(a));
+    }
+  parallel_for(ng, options.jobs, [&](int gi) {
+    std::optional<PrecomputedKernel> kernel;
+    if (options.precomputed_kernel) kernel.emplace(D, r.gammas[gi]);
+    double row_best = -1;
+    int fallen = 0;
+    bool stopped = false;
+    for (int ci : c_order) {
+      if (stopped) {
+        r.mean_score(ci, gi) = r.std_score(ci, gi) = std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
+      SvmParams params;
+      params.C = r.Cs[ci];
+      params.gamma = r.gammas[gi];
+      params.probability = false;
+      std::vector<double> scores;
+      int capped = 0;
+      for (std::size_t s = 0; s < splits.size(); ++s) {
+        const Split& split = splits[s];
+        int correct = 0, warnings = 0;
+        if (kernel) {
+          const auto fit = kernel->fit_and_score(split.train, split.test, y, params);
+          correct = fit.correct;
+          warnings = fit.iteration_cap_warnings;
+        } else {
+          const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
+          for (std::size_t i = 0; i < split.test.size(); ++i)
+            correct += svm.predict_label(test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
+        }
+        capped += warnings > 0;
+        scores.push_back(static_cast<double>(correct) / static_cast<double>(split.test.size()));
+      }
+      const CellStats st = stats_of(scores);
+      r.mean_score(ci, gi) = st.mean;
+      r.std_score(ci, gi) = st.std;
+      r.capped_fits(ci, gi) = capped;
+      if (!options.early_stop) continue;
+      row_best = std::max(row_best, st.mean);
+      fallen = st.mean < row_best - options.early_stop_drop ? fallen + 1 : 0;
+      stopped = fallen >= options.early_stop_patience;
+    }
+  });
+}
+
+}  // namespace
+
+GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
+                             const GridSearchOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  GridSearchResult r;
+  r.Cs = options.Cs;
+  r.gammas = options.gammas;
+  r.early_stop = options.early_stop;
+  r.early_stop_drop = options.early_stop ? options.early_stop_drop : 0;
+  r.early_stop_patience = options.early_stop ? options.early_stop_patience : 0;
+  r.precomputed_kernel = options.precomputed_kernel;
+  const int nc = static_cast<int>(r.Cs.size()), ng = static_cast<int>(r.gammas.size());
+  if (options.early_stop && (options.early_stop_patience < 1 || !(options.early_stop_drop >= 0)))
+    throw InvalidInputError("training_parameters", "early stop needs a patience >= 1 and a drop >= 0");
+  r.mean_score.setZero(nc, ng);
+  r.std_score.setZero(nc, ng);
+  r.capped_fits.setZero(nc, ng);
+  if (!options.precomputed_kernel && !options.early_stop) exhaustive_rbf_cells(X, y, splits, options, r);
+  else row_wise_cells(X, y, splits, options, r);
   r.best_score = -1;
   for (int ci = 0; ci < nc; ++ci)
-    for (int gi = 0; gi < ng; ++gi)
+    for (int gi = 0; gi < ng; ++gi) {
+      if (std::isnan(r.mean_score(ci, gi))) {
+        ++r.cells_skipped;
+        continue;
+      }
+      r.fits += static_cast<int>(splits.size());
       if (r.mean_score(ci, gi) > r.best_score) {
         r.best_score = r.mean_score(ci, gi);
         r.best_c = ci;
         r.best_gamma = gi;
       }
+    }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

@@ -4,6 +4,17 @@
 // stratified shuffle splits with a fixed seed. Cells run in parallel (std::thread, `jobs` workers).
 // Best cell: the highest mean score, ties to the first cell in C-major order (C outer, gamma inner) — the
 // order of scikit-learn's ParameterGrid({"C", "gamma"}) whose first best GridSearchCV picks.
+//
+// At scale (issue 25) the default search differs from the exhaustive one in two ways, both options:
+//  * precomputed kernel: one RBF kernel matrix per gamma over all samples serves every C and every split of that
+//    gamma's row (precomputed_kernel.hpp); the gamma rows run in parallel, each row's cells in ascending C.
+//  * early stop (the rule): within a gamma row, C runs from small to large; let b be the row's best mean
+//    validation accuracy so far. The row stops after `early_stop_patience` consecutive C values (default 2) whose
+//    mean accuracy is below b - early_stop_drop (default 0.05: fallen off by more than 5 points). The row's larger
+//    C values are skipped: not evaluated, NaN in mean_score (null in the report, grey on the heat map). Where
+//    accuracy has fallen off with growing C the SVM over-fits, and the costly fits (libsvm's solver running to its
+//    iteration cap on overlapping classes) sit exactly there, at large C.
+// Every fit that stops at libsvm's iteration cap (not converged) is counted per cell.
 
 #include <functional>
 #include <vector>
@@ -20,14 +31,26 @@ struct GridSearchOptions {
   std::vector<double> Cs = decade_grid(-2, 10);
   std::vector<double> gammas = decade_grid(-9, 3);
   int jobs = 0;  // 0: std::thread::hardware_concurrency()
+  bool precomputed_kernel = true;  // false: libsvm's own RBF kernel per fit (the search before issue 25)
+  bool early_stop = true;          // the rule above; false: every cell (exhaustive)
+  double early_stop_drop = 0.05;
+  int early_stop_patience = 2;
 };
 
 struct GridSearchResult {
   std::vector<double> Cs, gammas;
-  Eigen::MatrixXd mean_score, std_score;  // Cs.size() by gammas.size()
+  Eigen::MatrixXd mean_score, std_score;  // Cs.size() by gammas.size(); NaN where early stop skipped the cell
+  Eigen::MatrixXi capped_fits;            // per cell: split fits with a solver stopped at libsvm's iteration cap
+  int fits = 0;                           // split fits run (cells evaluated x splits)
+  int cells_skipped = 0;                  // by early stop
+  bool early_stop = false;                // the options the search ran with (for the report)
+  double early_stop_drop = 0;
+  int early_stop_patience = 0;
+  bool precomputed_kernel = false;
   int best_c = 0, best_gamma = 0;         // indices
   double best_score = 0;
   double seconds = 0;
+  int total_capped_fits() const { return capped_fits.size() ? capped_fits.sum() : 0; }
   double C() const { return Cs[best_c]; }
   double gamma() const { return gammas[best_gamma]; }
 };

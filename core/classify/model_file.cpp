@@ -19,6 +19,7 @@
 #include "core/classify/descriptor_recipe_codec.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/model_json_codec.hpp"
+#include "core/classify/novelty.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/common/errors.hpp"
 
@@ -267,7 +268,30 @@ std::vector<ClassSpectrum> class_spectra_from_json(const json& t) {
   return out;
 }
 
+json payload_without_novelty(const ClassifierModel::State& s);
+
+// Optional block (format 3, issue 25): the novelty calibration (novelty.hpp).
+json novelty_to_json(const NoveltyCalibration& c) {
+  return {{"k", c.k}, {"quantile", c.quantile}, {"reference", rows(c.reference)}, {"loo_scores", c.loo_scores}};
+}
+
+NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features) {
+  NoveltyCalibration c;
+  c.k = static_cast<int>(integer(j, "k", "novelty"));
+  c.quantile = num(j, "quantile", "novelty");
+  c.reference = matrix(field(j, "reference", "novelty"), n_features, "novelty.reference");
+  c.loo_scores = numbers(field(j, "loo_scores", "novelty"), "novelty.loo_scores");
+  validate_novelty(c, n_features);
+  return c;
+}
+
 json payload_of(const ClassifierModel::State& s) {
+  json p = payload_without_novelty(s);
+  if (s.novelty) p["novelty"] = novelty_to_json(*s.novelty);
+  return p;
+}
+
+json payload_without_novelty(const ClassifierModel::State& s) {
   const SvmModelData& svm = s.svm.data();
   const TrainingSummary& t = s.summary;
   return {{"name", s.name},
@@ -314,6 +338,7 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
   svm.rho = numbers(field(sj, "rho", "svm"), "svm.rho");
   svm.prob_a = numbers(field(sj, "prob_a", "svm"), "svm.prob_a");
   svm.prob_b = numbers(field(sj, "prob_b", "svm"), "svm.prob_b");
+  const Eigen::Index svm_features = svm.n_features;
   auto s = std::make_shared<ClassifierModel::State>(SvmEngine(std::move(svm)));
 
   s->name = str(p, "name", "payload");
@@ -352,13 +377,16 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
   s->summary.nested_cv_std = num(t, "nested_cv_std", "training");
   s->summary.notes = str(t, "notes", "training");
   s->summary.class_spectra = class_spectra_from_json(t);
+  if (p.contains("novelty")) s->novelty = novelty_from_json(p.at("novelty"), svm_features);
   return s;
 }
 
 json document_of(const ClassifierModel::State& s) {
   json payload = payload_of(s);
   const std::string seal = Sha256::hex(payload.dump());
-  return {{"format", kFormatName}, {"format_version", ClassifierModel::kFormatVersion}, {"payload", std::move(payload)},
+  // Version 3 only when the file has what version 3 added (payload.novelty): older readers refuse it then.
+  const int version = s.novelty ? ClassifierModel::kFormatVersion : 2;
+  return {{"format", kFormatName}, {"format_version", version}, {"payload", std::move(payload)},
           {"payload_sha256", seal}};
 }
 
@@ -449,13 +477,15 @@ ClassifierModel ClassifierModel::from_json_text(const std::string& text) {
   if (!doc.contains("format_version") || !doc["format_version"].is_number_integer())
     invalid("missing format_version");
   const auto version = doc["format_version"].get<std::int64_t>();
-  if (version != kFormatVersion && version != 1)
+  if (version < 1 || version > kFormatVersion)
     throw InvalidInputError("model_version",
-                            "model file format version " + std::to_string(version) + " is not supported (this build reads versions 1 and " +
+                            "model file format version " + std::to_string(version) + " is not supported (this build reads versions 1 to " +
                                 std::to_string(kFormatVersion) + ")",
                             {{"version", version}, {"supported", std::int64_t{kFormatVersion}}});
   refuse_unknown_keys(doc, {"format", "format_version", "payload", "payload_sha256"}, "document");
   const json& payload = field(doc, "payload", "document");
+  if (version < 3 && payload.is_object() && payload.contains("novelty"))
+    invalid("payload.novelty needs format_version 3, the file says " + std::to_string(version));
   const std::string seal = str(doc, "payload_sha256", "document");
   const std::string actual = Sha256::hex(payload.dump());
   if (seal != actual)

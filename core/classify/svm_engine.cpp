@@ -9,15 +9,11 @@
 #include <numeric>
 #include <string>
 
+#include "core/classify/libsvm_messages.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
 namespace {
-
-void silence_libsvm() {
-  static std::once_flag once;
-  std::call_once(once, [] { svm_set_print_string_function([](const char*) {}); });
-}
 
 // Serialises srand()+svm_train with probabilities: rand() is process-global state.
 std::mutex& rand_mutex() {
@@ -126,8 +122,7 @@ const SvmModelData& SvmEngine::data() const { return impl_->data; }
 bool SvmEngine::has_probability() const { return !impl_->data.prob_a.empty(); }
 
 SvmEngine SvmEngine::train(const Eigen::MatrixXd& X, const std::vector<int>& y, const SvmParams& params,
-                           unsigned seed) {
-  silence_libsvm();
+                           unsigned seed, int* iteration_cap_warnings) {
   const int n = static_cast<int>(X.rows()), d = static_cast<int>(X.cols());
   if (n != static_cast<int>(y.size()) || n < 2 || d < 1)
     throw InvalidInputError("training_data", "SVM training needs at least 2 samples with features and one label each");
@@ -170,12 +165,16 @@ SvmEngine SvmEngine::train(const Eigen::MatrixXd& X, const std::vector<int>& y, 
     throw InvalidInputError("training_parameters", std::string("libsvm refused the parameters: ") + error);
 
   svm_model* model = nullptr;
-  if (params.probability) {
-    std::lock_guard lock(rand_mutex());
-    std::srand(seed);
-    model = svm_train(&problem, &param);
-  } else {
-    model = svm_train(&problem, &param);  // no rand() without probability estimates
+  {
+    IterationCapCounter cap;
+    if (params.probability) {
+      std::lock_guard lock(rand_mutex());
+      std::srand(seed);
+      model = svm_train(&problem, &param);
+    } else {
+      model = svm_train(&problem, &param);  // no rand() without probability estimates
+    }
+    if (iteration_cap_warnings) *iteration_cap_warnings = cap.warnings();
   }
 
   // Copy out while the training nodes are still alive, then free libsvm's struct (free_sv == 0: it does not

@@ -7,7 +7,8 @@
 //  * svm_save_model / svm_load_model call the process-global setlocale: never used, the model file is our JSON;
 //  * training with probability estimates calls rand(): srand(seed) + svm_train run under one global mutex, so a
 //    seed gives the same model (including Platt's probA/probB) whatever other threads do;
-//  * libsvm prints to stdout: silenced once.
+//  * libsvm prints to stdout: its messages never reach the terminal; the iteration-cap warnings of a fit are counted
+//    (libsvm_messages.hpp) and returned to the caller.
 // Class labels are 0..k-1; samples are stably sorted by label before training so that libsvm's class order
 // equals 0..k-1 (as in scikit-learn, whose libsvm sorts labels), which makes vote ties and decision-value
 // signs match scikit-learn's SVC.
@@ -51,8 +52,10 @@ struct SvmOutput {
 class SvmEngine {
  public:
   // X: one sample per row; y: labels in 0..k-1 (every label present, k >= 2). Deterministic given `seed`.
+  // iteration_cap_warnings (optional): how many of the fit's pairwise solvers (including those of the Platt
+  // calibration's internal cross-validation) stopped at libsvm's iteration cap, i.e. did not converge.
   static SvmEngine train(const Eigen::MatrixXd& X, const std::vector<int>& y, const SvmParams& params,
-                         unsigned seed);
+                         unsigned seed, int* iteration_cap_warnings = nullptr);
   // Validates sizes and finiteness; throws InvalidInputError("model_invalid") on inconsistency.
   explicit SvmEngine(SvmModelData data);
   SvmEngine(SvmEngine&&) noexcept;

@@ -12,6 +12,7 @@
 #include "core/classify/class_spectra.hpp"
 #include "core/classify/classifier_state.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/novelty.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/classify/standard_scaler.hpp"
 #include "core/classify/svm_engine.hpp"
@@ -127,6 +128,9 @@ NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vect
       std::vector<int> pb;
       for (Eigen::Index i = 0; i < Xbs.rows(); ++i) pb.push_back(m.predict_label(Xbs.row(i).transpose()));
       out.scores.push_back(accuracy(yb, pb));
+      out.fits += inner.fits;
+      out.capped_fits += inner.total_capped_fits();
+      out.cells_skipped += inner.cells_skipped;
       out.chosen.emplace_back(p.C, p.gamma);
     }
   }
@@ -191,13 +195,15 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
       " cells x " + std::to_string(options.grid_splits) + " splits on " + std::to_string(y_train.size()) + " samples");
   rep.grid = search(Xs_train, y_train, options.grid_splits, options.grid_validation_fraction, seed_grid, options.grid);
   say("grid search: best C = " + std::to_string(rep.grid.C()) + ", gamma = " + std::to_string(rep.grid.gamma()) +
-      ", validation accuracy " + std::to_string(rep.grid.best_score) + " (" + std::to_string(rep.grid.seconds) + " s)");
+      ", validation accuracy " + std::to_string(rep.grid.best_score) + " (" + std::to_string(rep.grid.seconds) + " s; " +
+      std::to_string(rep.grid.fits) + " fits, " + std::to_string(rep.grid.total_capped_fits()) +
+      " stopped at libsvm's iteration cap, " + std::to_string(rep.grid.cells_skipped) + " cells skipped by early stop)");
 
   SvmParams params;
   params.C = rep.grid.C();
   params.gamma = rep.grid.gamma();
   params.probability = true;
-  SvmEngine svm = SvmEngine::train(Xs_train, y_train, params, static_cast<unsigned>(seed_svm));
+  SvmEngine svm = SvmEngine::train(Xs_train, y_train, params, static_cast<unsigned>(seed_svm), &rep.final_fit_cap_warnings);
   std::vector<int> pred_train, pred_test;
   for (Eigen::Index i = 0; i < Xs_train.rows(); ++i) pred_train.push_back(svm.predict_label(Xs_train.row(i).transpose()));
   for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) pred_test.push_back(svm.predict_label(Xs_test.row(i).transpose()));
@@ -228,9 +234,22 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   StandardScaler final_scaler = scaler;
   if (options.refit_on_all) {
     final_scaler = StandardScaler::fit(X);
-    svm = SvmEngine::train(final_scaler.transform(X), y, params, static_cast<unsigned>(seed_svm));
+    svm = SvmEngine::train(final_scaler.transform(X), y, params, static_cast<unsigned>(seed_svm), &rep.final_fit_cap_warnings);
   }
   auto state = std::make_shared<ClassifierModel::State>(std::move(svm));
+  if (options.novelty) {
+    // On the samples the final SVM was fitted on, in its standardised space.
+    state->novelty = calibrate_novelty(options.refit_on_all ? final_scaler.transform(X) : Xs_train, options.novelty_k,
+                                       options.novelty_quantile);
+    rep.novelty_threshold = novelty_threshold(*state->novelty, options.novelty_quantile);
+    rep.novelty_quantile = options.novelty_quantile;
+    if (!options.refit_on_all)  // the test split is new to this model: how many of the known types it flags
+      for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) {
+        const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose());
+        rep.test_novelty.push_back(a.score);
+        rep.test_novel.push_back(a.novel);
+      }
+  }
   state->name = options.name;
   state->version = options.version;
   state->classes = rep.classes;

@@ -36,6 +36,9 @@ struct TrainOptions {
   int nested_repeats = 2;          // 0: skip nested CV
   int nested_inner_splits = 5;
   bool refit_on_all = false;       // false: the shipped model is the one measured on the test split
+  bool novelty = true;             // calibrate the novelty figure (novelty.hpp) on the final fit's samples
+  int novelty_k = 5;
+  double novelty_quantile = 0.99;  // the model's default threshold quantile
   std::uint64_t seed = 42;
   // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
   // class loses more than loss_policy.max_class_loss of its meshes (training_losses.hpp).
@@ -50,6 +53,8 @@ struct NestedCvResult {
   std::vector<double> scores;                       // one per outer fold and repeat
   std::vector<std::pair<double, double>> chosen;    // (C, gamma) picked by each inner search
   double mean = 0, std = 0;
+  // Over every inner grid search: split fits run, fits stopped at libsvm's iteration cap, cells skipped by early stop.
+  int fits = 0, capped_fits = 0, cells_skipped = 0;
 };
 
 struct TrainingReport {
@@ -64,11 +69,16 @@ struct TrainingReport {
   std::vector<int> train_indices, test_indices;  // into the samples given
   GridSearchResult grid;
   double train_accuracy = 0;
+  int final_fit_cap_warnings = 0;                // the shipped model's fit: solvers stopped at libsvm's iteration cap
   ClassificationMetrics test;                    // on the hold-out split
   NestedCvResult nested;
   double seconds_total = 0, seconds_nested = 0;
   std::vector<std::string> test_ids;
   std::vector<std::string> test_true, test_predicted;
+  std::vector<double> test_novelty;              // per test sample, its novelty score (empty without calibration)
+  std::vector<bool> test_novel;                  // flagged at the model's quantile
+  double novelty_threshold = 0;                  // at the model's quantile; 0 without calibration
+  double novelty_quantile = 0;
 };
 
 struct NestedCvOptions {

@@ -46,6 +46,36 @@ std::string training_report_table(const TrainingReport& r) {
     << to_string(r.spec.family) << ")\n";
   o << "best C = " << exponent_label(r.grid.C()) << ", gamma = " << exponent_label(r.grid.gamma())
     << "  (grid validation accuracy " << fmt("%.3f", r.grid.best_score) << ")\n";
+  o << "grid: " << r.grid.fits << " fits";
+  if (r.grid.early_stop)
+    o << ", " << r.grid.cells_skipped << " of " << r.grid.Cs.size() * r.grid.gammas.size()
+      << " cells skipped by early stop (a gamma row stops after " << r.grid.early_stop_patience
+      << " consecutive C more than " << fmt("%.3g", r.grid.early_stop_drop) << " below its best)";
+  o << "; " << r.grid.total_capped_fits() << " fits stopped at libsvm's iteration cap (not converged)";
+  if (r.grid.total_capped_fits() > 0) {
+    o << " in cells";
+    int shown = 0;
+    for (Eigen::Index ci = 0; ci < r.grid.capped_fits.rows(); ++ci)
+      for (Eigen::Index gi = 0; gi < r.grid.capped_fits.cols(); ++gi)
+        if (r.grid.capped_fits(ci, gi) > 0 && shown++ < 6)
+          o << " (C " << exponent_label(r.grid.Cs[ci]) << ", gamma " << exponent_label(r.grid.gammas[gi]) << ": "
+            << r.grid.capped_fits(ci, gi) << ")";
+    if (shown > 6) o << " ...";
+  }
+  o << "\n";
+  if (!r.nested.scores.empty())
+    o << "nested CV inner searches: " << r.nested.fits << " fits, " << r.nested.capped_fits
+      << " stopped at the iteration cap, " << r.nested.cells_skipped << " cells skipped by early stop\n";
+  if (r.novelty_threshold > 0) {
+    int flagged = 0;
+    for (bool b : r.test_novel) flagged += b;
+    o << "novelty: threshold " << fmt("%.4g", r.novelty_threshold) << " (the " << fmt("%.3g", r.novelty_quantile)
+      << " quantile of the training set's leave-one-out k-NN distances)";
+    if (!r.test_novel.empty()) o << "; " << flagged << " of " << r.test_novel.size() << " held-out samples flagged novel";
+    o << "\n";
+  }
+  if (r.final_fit_cap_warnings > 0)
+    o << "the final model's fit: " << r.final_fit_cap_warnings << " solvers stopped at libsvm's iteration cap\n";
   o << "train accuracy " << fmt("%.3f", r.train_accuracy) << ", test accuracy " << fmt("%.3f", r.test.accuracy) << " on "
     << r.test_indices.size() << " held-out samples";
   if (!r.nested.scores.empty())
@@ -85,7 +115,14 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
   const int nc = static_cast<int>(g.Cs.size()), ng = static_cast<int>(g.gammas.size());
   const int cell = 40, left = 80, top = 50, right = 90, bottom = 60;
   const int width = left + ng * cell + right, height = top + nc * cell + bottom;
-  const double lo = g.mean_score.size() ? g.mean_score.minCoeff() : 0, hi = g.mean_score.size() ? g.mean_score.maxCoeff() : 1;
+  // Skipped cells (early stop) are NaN: the colour range is over evaluated cells only.
+  double lo = 1, hi = 0;
+  for (Eigen::Index i = 0; i < g.mean_score.size(); ++i)
+    if (!std::isnan(g.mean_score.data()[i])) {
+      lo = std::min(lo, g.mean_score.data()[i]);
+      hi = std::max(hi, g.mean_score.data()[i]);
+    }
+  if (lo > hi) lo = 0, hi = 1;
   auto escape = [](std::string s) {
     std::string out;
     for (char ch : s) {
@@ -102,17 +139,30 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
   o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   o << "<text x=\"" << left << "\" y=\"20\" font-size=\"14\">" << escape(title) << "</text>\n";
   o << "<text x=\"" << left << "\" y=\"38\">mean validation accuracy; best C = " << exponent_label(g.C()) << ", gamma = "
-    << exponent_label(g.gamma()) << " (" << fmt("%.3f", g.best_score) << ")</text>\n";
+    << exponent_label(g.gamma()) << " (" << fmt("%.3f", g.best_score) << "); !n: fits stopped at the iteration cap"
+    << (g.cells_skipped ? "; grey: skipped (early stop)" : "") << "</text>\n";
   for (int ci = 0; ci < nc; ++ci) {
     for (int gi = 0; gi < ng; ++gi) {
       const double v = g.mean_score(ci, gi);
-      const double t = hi > lo ? (v - lo) / (hi - lo) : 1.0;
       const int x = left + gi * cell, y = top + ci * cell;
+      const int capped = g.capped_fits.size() ? g.capped_fits(ci, gi) : 0;
+      const std::string where = "C=" + exponent_label(g.Cs[ci]) + " gamma=" + exponent_label(g.gammas[gi]);
+      if (std::isnan(v)) {
+        o << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << cell << "\" height=\"" << cell
+          << "\" fill=\"#e5e5e5\"><title>" << where << ": skipped (early stop)</title></rect>\n";
+        o << "<text x=\"" << x + cell / 2 << "\" y=\"" << y + cell / 2 + 4
+          << "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#777\">&#8212;</text>\n";
+        continue;
+      }
+      const double t = hi > lo ? (v - lo) / (hi - lo) : 1.0;
       o << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << cell << "\" height=\"" << cell << "\" fill=\"" << bupu(t)
-        << "\"><title>C=" << exponent_label(g.Cs[ci]) << " gamma=" << exponent_label(g.gammas[gi]) << ": " << fmt("%.3f", v)
-        << "</title></rect>\n";
+        << "\"><title>" << where << ": " << fmt("%.3f", v)
+        << (capped ? "; " + std::to_string(capped) + " fits stopped at the iteration cap" : std::string()) << "</title></rect>\n";
       o << "<text x=\"" << x + cell / 2 << "\" y=\"" << y + cell / 2 + 4 << "\" text-anchor=\"middle\" font-size=\"9\" fill=\""
         << (t > 0.55 ? "white" : "black") << "\">" << fmt("%.2f", v) << "</text>\n";
+      if (capped)  // a corner mark with the count: fits of this cell that did not converge
+        o << "<text x=\"" << x + cell - 2 << "\" y=\"" << y + 10 << "\" text-anchor=\"end\" font-size=\"8\" fill=\"#d7301f\">!"
+          << capped << "</text>\n";
     }
     o << "<text x=\"" << left - 6 << "\" y=\"" << top + ci * cell + cell / 2 + 4 << "\" text-anchor=\"end\">"
       << exponent_label(g.Cs[ci]) << "</text>\n";

@@ -86,20 +86,21 @@ PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptio
   return base;
 }
 
-void classify_described(PipelineResult& result, const ClassifierModel& model) {
+void classify_described(PipelineResult& result, const ClassifierModel& model, const PredictOptions& predict) {
   const RecipeConformance conformance = check_recipe(model.recipe(), result.map);
   enforce_recipe_policy(model.recipe(), conformance, model.name());
   result.recipe = conformance;
-  result.prediction = model.predict(result.features);
+  result.prediction = model.predict(result.features, predict);
 }
 
 PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel& model, PipelineOptions options,
                                    const Deadline& deadline) {
   const auto start = Clock::now();
   // The descriptor must be computed exactly as the model's training descriptors were (docs/design/classification.md).
+  const PredictOptions predict{options.novelty_quantile};
   PipelineResult result = describe_mesh_bytes(bytes, options_for_recipe(model.recipe(), std::move(options)), deadline);
   const auto t = Clock::now();
-  classify_described(result, model);
+  classify_described(result, model, predict);
   result.timings.classify = seconds_since(t);
   result.timings.total = seconds_since(start);
   return result;

@@ -22,6 +22,7 @@ struct PipelineOptions {
   ShFitOptions sh;
   bool compute_global_features = false;
   int reconstruction_level = -1;   // >= 0: also evaluate the SH surface on an icosphere of this level (0..7)
+  double novelty_quantile = 0;     // classify: the novelty flag's threshold quantile; <= 0: the model's own
 };
 
 struct StageTimings {  // seconds
@@ -60,6 +61,6 @@ PipelineResult classify_mesh_bytes(std::string_view bytes, const ClassifierModel
                                    const Deadline& deadline = {});
 // The classify step on an already described mesh (result.map, result.features): conformance check, the model's
 // off-recipe policy, prediction. Sets result.recipe and result.prediction.
-void classify_described(PipelineResult& result, const ClassifierModel& model);
+void classify_described(PipelineResult& result, const ClassifierModel& model, const PredictOptions& predict = {});
 
 }  // namespace wish

@@ -48,6 +48,10 @@ int main(int argc, char** argv) {
       ->envname("WISH_MAX_STEPS")->capture_default_str();
   app.add_option("--time-limit", c.time_limit_seconds, "Seconds per request, queue wait included (504 past it)")
       ->envname("WISH_TIME_LIMIT")->capture_default_str();
+  app.add_option("--novelty-quantile", c.novelty_quantile,
+                 "Quantile of a model's training novelty scores above which a prediction says novel: true "
+                 "(0: each model's own, 0.99 by default)")
+      ->envname("WISH_NOVELTY_QUANTILE")->capture_default_str();
   app.add_option("--max-volume-voxels", c.max_volume_voxels, "Most voxels in one uploaded label volume (413 above)")
       ->envname("WISH_MAX_VOLUME_VOXELS")->capture_default_str();
   app.add_option("--max-volume-objects", c.max_volume_objects, "Most objects in one uploaded label volume (413 above)")

@@ -269,6 +269,54 @@ TEST(ModelFile, BundledDefaultModelIsAsThisBuildWritesIt) {
   EXPECT_EQ(recipe_version_of(model.recipe()), 3);
 }
 
+// The novelty block (format 3, issue 25): written with the version that introduced it, so a version-2 reader
+// refuses the file; optional on read (a file without it loads and predicts without a novelty figure); a block in
+// a file that claims version 2 is refused; an inconsistent block is refused with its path.
+TEST(ModelFile, NoveltyBlockIsVersion3OptionalAndChecked) {
+  const auto doc = nlohmann::json::parse(trained().to_json_text());
+  ASSERT_TRUE(trained().has_novelty());
+  EXPECT_EQ(doc["format_version"], 3);
+  ASSERT_TRUE(doc["payload"].contains("novelty"));
+  const auto sample = testing::synthetic_samples(3, 1, 5).front().features;
+  {
+    const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
+    const Prediction a = trained().predict(sample), b = loaded.predict(sample);
+    ASSERT_TRUE(a.novelty && b.novelty);
+    EXPECT_EQ(a.novelty->score, b.novelty->score);
+    EXPECT_EQ(a.novelty->p_value, b.novelty->p_value);
+  }
+  {
+    auto d = doc;
+    d["payload"].erase("novelty");
+    const ClassifierModel without = ClassifierModel::from_json_text(reseal(d));
+    EXPECT_FALSE(without.has_novelty());
+    const Prediction p = without.predict(sample);
+    EXPECT_FALSE(p.novelty.has_value());
+    EXPECT_EQ(p.label, trained().predict(sample).label);
+    EXPECT_EQ(nlohmann::json::parse(without.to_json_text())["format_version"], 2);
+  }
+  {
+    auto d = doc;
+    d["format_version"] = 2;
+    expect_refused(reseal(d), "model_invalid", "needs format_version 3");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["loo_scores"].erase(0);
+    expect_refused(reseal(d), "model_invalid", "leave-one-out scores");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["reference"][0].erase(0);
+    expect_refused(reseal(d), "model_invalid", "novelty.reference");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["quantile"] = 1.5;
+    expect_refused(reseal(d), "model_invalid", "quantile");
+  }
+}
+
 // A model file of format version 1 (the bundled default model as main cfdc7a1 wrote it, committed as a fixture)
 // loads through the migration and predicts what version-1 code predicted: the labels of its training report's
 // hold-out split (tests/classify/data/model_format_v1_predictions.csv, column predicted_v1).
@@ -304,7 +352,9 @@ TEST(ModelFileMigration, FormatVersion1LoadsAndPredictsTheSame) {
 
   // Saved again it is a version-2 file that predicts bit for bit the same as the migrated one.
   const std::string v2_text = model.to_json_text();
-  EXPECT_EQ(nlohmann::json::parse(v2_text)["format_version"], ClassifierModel::kFormatVersion);
+  // Version 2, not 3: it has no novelty calibration (format 3's block), so readers of version 2 still read it.
+  EXPECT_EQ(nlohmann::json::parse(v2_text)["format_version"], 2);
+  EXPECT_FALSE(model.has_novelty());
   const ClassifierModel reloaded = ClassifierModel::from_json_text(v2_text);
   EXPECT_TRUE(reloaded.recipe() == model.recipe());
   for (std::size_t i = 0; i < table.samples.size(); ++i) {

@@ -34,9 +34,9 @@ def label_of(content: bytes) -> tuple[str | None, str]:
     return (err.group(1) if err else None), (lab.group(1) if lab else "neuron")
 
 
-def fake_mesh(label: str = "neuron", error: str | None = None, fmt: str = "obj") -> bytes:
-    """A tiny tetrahedron mesh text carrying the fake classifier's answer."""
-    head = f"# label: {label}\n" + (f"# error: {error}\n" if error else "")
+def fake_mesh(label: str = "neuron", error: str | None = None, fmt: str = "obj", novel: bool = False) -> bytes:
+    """A tiny tetrahedron mesh text carrying the fake classifier's answer (``novel``: none of the known types)."""
+    head = f"# label: {label}\n" + (f"# error: {error}\n" if error else "") + ("# novel: true\n" if novel else "")
     if fmt == "off":
         return (head + "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n").encode()
     return (head + "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n").encode()
@@ -272,8 +272,12 @@ class FakeWishServer:
                     others = [c for c in CLASSES if c != label]
                     probs = [{"label": label, "probability": 0.75}] + [
                         {"label": c, "probability": 0.25 / len(others)} for c in others]
+                    novel = b"# novel: true" in content
                     doc["prediction"] = {"label": label, "margin": 0.8, "probabilities": probs,
-                                         "model": {"name": "default", "version": "1"}}
+                                         "model": {"name": "default", "version": "1"}, "novel": novel,
+                                         "novelty": {"computed": True, "score": 9.0 if novel else 1.0,
+                                                     "p_value": 0.004 if novel else 0.5, "threshold": 3.0,
+                                                     "quantile": 0.99}}
                 return doc
 
         return Handler

@@ -80,6 +80,9 @@ class BatchCliTest(unittest.TestCase):
         self.assertTrue(all(r["status"] == "ok" for r in rows))
         self.assertIn("prob_neuron", rows[0])
         self.assertAlmostEqual(float(rows[0][f"prob_{rows[0]['label']}"]), 0.75)
+        # The novelty flag beside the label (the fake server calls none of these novel).
+        self.assertEqual({r["novel"] for r in rows}, {"false"})
+        self.assertEqual(float(rows[0]["novelty_p_value"]), 0.5)
         self.assertEqual([r["file"] for r in rows], sorted(self.expected()))  # output follows input order
         self.assertIn("18 classified, 0 failed", stdout)
         self.assertRegex(stdout, r"neuron\s+6")

@@ -41,6 +41,15 @@ class LibraryTest(unittest.TestCase):
         self.assertEqual(req["query"].get("format"), "off")
         self.assertEqual(req["headers"]["Content-Type"], "application/octet-stream")
 
+    def test_classify_reports_novelty(self) -> None:
+        known = self.client.classify(fake_mesh("astrocyte"))
+        self.assertIs(known.novel, False)
+        self.assertEqual(known.novelty_p_value, 0.5)
+        novel = self.client.classify(fake_mesh("astrocyte", novel=True))
+        self.assertIs(novel.novel, True)
+        self.assertEqual(novel.novelty_p_value, 0.004)
+        self.assertEqual(novel.label, "astrocyte")  # the label is still given beside the flag
+
     def test_classify_bytes_and_named_bytes(self) -> None:
         self.assertEqual(self.client.classify(fake_mesh("pericyte")).label, "pericyte")
         r = self.client.classify(("x.obj", fake_mesh("microglia")))

@@ -2,6 +2,8 @@
 // confusion matrix, per-class scores and losses, and what a training run adds (input, comparison, skipped items).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/classify/dataset.hpp"
 #include "core/classify/training.hpp"
 #include "tests/classify/classify_test_data.hpp"
@@ -24,10 +26,27 @@ TEST(TrainingReportJson, CarriesTheReportsFigures) {
   // grid: rows C, columns gamma, the mean accuracy of every cell
   ASSERT_EQ(j["grid"]["mean_accuracy"].size(), rep.grid.Cs.size());
   ASSERT_EQ(j["grid"]["mean_accuracy"][0].size(), rep.grid.gammas.size());
+  // (as written to disk: a cell skipped by early stop is null there)
+  const nlohmann::json written = nlohmann::json::parse(j.dump());
+  int skipped = 0, capped = 0;
   for (std::size_t i = 0; i < rep.grid.Cs.size(); ++i)
-    for (std::size_t k = 0; k < rep.grid.gammas.size(); ++k)
-      EXPECT_DOUBLE_EQ(j["grid"]["mean_accuracy"][i][k].get<double>(),
-                       rep.grid.mean_score(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)));
+    for (std::size_t k = 0; k < rep.grid.gammas.size(); ++k) {
+      const double v = rep.grid.mean_score(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
+      if (std::isnan(v)) {
+        EXPECT_TRUE(written["grid"]["mean_accuracy"][i][k].is_null());
+        ++skipped;
+      } else {
+        EXPECT_DOUBLE_EQ(written["grid"]["mean_accuracy"][i][k].get<double>(), v);
+      }
+      EXPECT_EQ(written["grid"]["capped_fits"][i][k].get<int>(),
+                rep.grid.capped_fits(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)));
+      capped += rep.grid.capped_fits(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
+    }
+  EXPECT_EQ(written["grid"]["cells_skipped"].get<int>(), skipped);
+  EXPECT_EQ(written["grid"]["capped_fits_total"].get<int>(), capped);
+  EXPECT_EQ(written["grid"]["fits"].get<int>(),
+            (static_cast<int>(rep.grid.Cs.size() * rep.grid.gammas.size()) - skipped) * opts.grid_splits);
+  EXPECT_TRUE(written["grid"]["early_stop"]["enabled"].get<bool>());
   EXPECT_DOUBLE_EQ(j["grid"]["best_C"].get<double>(), rep.grid.C());
   // confusion matrix: rows true class, columns predicted; sums to the held-out count
   const auto& cm = j["test"]["confusion_matrix"];

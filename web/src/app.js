@@ -187,6 +187,7 @@ function rowValues(item) {
     file: item.name,
     status: item.status === 'error' ? `${item.error.status} ${item.error.code}` : item.status,
     label: r?.prediction?.label ?? null,
+    novel: r?.prediction?.novel ?? null,  // true: none of the model's known types; null: not computed
     probability: top,
     k_p99: r?.map?.quality?.conformal_p99 ?? null,
     flips: r?.map?.quality?.flipped_faces ?? null,
@@ -233,6 +234,14 @@ function renderTable() {
       } else {
         td.textContent = text;
         if (i > 2) td.className = 'num';
+        if (i === 2 && v.novel === true) {  // the label stays; the badge says the model has not seen such a shape
+          td.dataset.novel = 'true';
+          const badge = document.createElement('span');
+          badge.className = 'novel-badge';
+          badge.textContent = 'novel';
+          badge.title = 'Unlike every training sample of the model: probably none of its known types';
+          td.append(' ', badge);
+        }
       }
       tr.append(td);
     });
@@ -262,7 +271,8 @@ function csvCell(v) {
 }
 
 function batchCsv() {
-  const head = ['file', 'status', 'error_code', 'error_message', 'label', 'top_probability', 'margin', 'flipped_faces',
+  const head = ['file', 'status', 'error_code', 'error_message', 'label', 'top_probability', 'margin', 'novel',
+                'novelty_p_value', 'flipped_faces',
                 'conformal_mean', 'conformal_p99', 'conformal_max', 'area_distortion', 'roundness', 'map_method',
                 'seconds', 'lmax', 'invariants'];
   const lines = [head.join(',')];
@@ -270,7 +280,8 @@ function batchCsv() {
     const r = item.result, q = r?.map?.quality || {};
     const v = rowValues(item);
     lines.push([item.name, item.error ? item.error.status : item.status === 'done' ? 200 : item.status,
-                item.error?.code, item.error?.message, v.label, v.probability, r?.prediction?.margin, q.flipped_faces,
+                item.error?.code, item.error?.message, v.label, v.probability, r?.prediction?.margin,
+                r?.prediction?.novel, r?.prediction?.novelty?.p_value, q.flipped_faces,
                 q.conformal_mean, q.conformal_p99, q.conformal_max, q.area_distortion, q.roundness, r?.map?.method,
                 v.seconds, r?.descriptor?.lmax, (r?.descriptor?.invariants || []).join(' ')].map(csvCell).join(','));
   }
@@ -460,6 +471,29 @@ function showSpectrum(item) {
   box.append(note);
 }
 
+// The novelty figure (proto Novelty): whether the shape is like the model's training set at all.
+function noveltyLine(p) {
+  const line = document.createElement('p');
+  line.id = 'novelty';
+  const n = p.novelty;
+  if (!n || !n.computed) {
+    line.dataset.novel = 'unknown';
+    line.textContent = `Novelty not computed: ${n?.reason || 'the model has no novelty calibration'}.`;
+    return line;
+  }
+  line.dataset.novel = String(p.novel);
+  const figures = `score ${fmt(n.score, 3)}, threshold ${fmt(n.threshold, 3)} (the training set's ${fmt(100 * n.quantile, 3)}th percentile), p = ${fmt(n.p_value, 3)}`;
+  if (p.novel) {
+    line.className = 'novel';
+    const strong = document.createElement('strong');
+    strong.textContent = 'Novel: none of the known types?';
+    line.append(strong, ` This shape is unlike every training sample of the model (${figures}); the label below is the nearest known type, not a finding.`);
+  } else {
+    line.textContent = `Within the training set's range (${figures}).`;
+  }
+  return line;
+}
+
 function showPrediction(item) {
   const box = $('#prediction');
   box.innerHTML = '';
@@ -468,7 +502,7 @@ function showPrediction(item) {
   const head = document.createElement('p');
   const label = document.createElement('strong'); label.id = 'predicted-label'; label.textContent = p.label;
   head.append('label ', label, ` · margin ${fmt(p.margin, 3)} · model ${p.model.name} v${p.model.version}`);
-  box.append(head, probabilityBars(p.probabilities, p.label));
+  box.append(head, noveltyLine(p), probabilityBars(p.probabilities, p.label));
 }
 
 function showResult(item) {

@@ -45,7 +45,15 @@ export function renderReport(report) {
     v.className = 'report-grid';
     const best = [grid.C.indexOf(grid.best_C), grid.gamma.indexOf(grid.best_gamma)];
     v.append(heading('Grid search: mean CV accuracy (rows C, columns γ)'),
-             heatMap(grid.C, grid.gamma, grid.mean_accuracy, { rowName: 'C', colName: 'γ', best, scale: viridis }));
+             heatMap(grid.C, grid.gamma, grid.mean_accuracy,
+                     { rowName: 'C', colName: 'γ', best, scale: viridis, marks: grid.capped_fits }));
+    if (grid.capped_fits || grid.cells_skipped) {
+      const note = document.createElement('p');
+      note.className = 'note grid-note';
+      note.textContent = `${grid.fits ?? '?'} fits; ${grid.capped_fits_total ?? 0} stopped at libsvm's iteration cap ` +
+        `(not converged; "!n" in a cell)` + (grid.cells_skipped ? `; ${grid.cells_skipped} cells skipped by early stop ("—")` : '');
+      v.append(note);
+    }
     views.append(v);
   }
 

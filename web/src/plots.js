@@ -69,8 +69,10 @@ export function probabilityBars(probabilities, winner) {
 // values the mean cross-validated accuracy), coloured by `scale` (t in [0, 1] -> [r, g, b] in [0, 1]) over the
 // values' [min, max] and printed in each cell. `best`
 // = [i, j] is outlined. Each cell carries data-row, data-col and data-value (the JSON number) for tests.
+// marks (optional): a count per cell drawn in its corner as "!n" when > 0 (the grid search's fits that stopped at
+// libsvm's iteration cap). A null value is a cell that was not evaluated (early stop): grey, "—".
 export function heatMap(rows, cols, values, { rowName = 'C', colName = 'γ', best = null, cell = 30, digits = 2,
-                                                scale = () => [0.6, 0.6, 0.6] } = {}) {
+                                                scale = () => [0.6, 0.6, 0.6], marks = null } = {}) {
   const m = { l: 58, t: 12, r: 12, b: 44 };
   const width = m.l + cols.length * cell + m.r, height = m.t + rows.length * cell + m.b;
   const svg = el('svg', { width, height, viewBox: `0 0 ${width} ${height}`, role: 'img', 'aria-label': 'grid heat map',
@@ -96,6 +98,12 @@ export function heatMap(rows, cols, values, { rowName = 'C', colName = 'γ', bes
       g.append(el('text', { x: x + cell / 2, y: y + cell / 2 + 4, 'text-anchor': 'middle', class: 'value',
                             style: `fill:${t < 0.55 ? '#fff' : '#111'};font-size:${cell < 32 ? 9 : 11}px` },
                   Number.isFinite(v) ? v.toFixed(digits) : '—'));
+      const mark = marks?.[i]?.[j];
+      if (mark > 0) {
+        g.dataset.capped = mark;
+        g.append(el('text', { x: x + cell - 2, y: y + 8, 'text-anchor': 'end', class: 'capped',
+                              style: 'fill:#dc2626;font-size:7px;font-weight:bold' }, `!${mark}`));
+      }
       svg.append(g);
     });
   });

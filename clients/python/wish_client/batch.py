@@ -12,6 +12,8 @@ status          ``ok`` or ``error``
 label           predicted class (ok)
 confidence      probability of ``label``
 margin          decision margin of the winner against the runner-up
+novel           ``true``: none of the types the model knows (its novelty threshold); empty: not computed
+novelty_p_value how typical of the training set (small: unlike every training sample)
 model           the model that answered
 prob_<class>    probability per class (CSV); ``probabilities`` object (JSON)
 error_code      the server's error code, ``connection_error`` or ``read_error`` (error)
@@ -49,7 +51,7 @@ from .errors import WishClientError, WishConnectionError, WishInputError, WishSe
 MESH_EXTENSIONS = (".obj", ".ply", ".off", ".stl")
 INPUT_EXTENSIONS = MESH_EXTENSIONS + VOLUME_EXTENSIONS
 
-BASE_COLUMNS = ["file", "label_id", "status", "label", "confidence", "margin", "model", "voxel_count", "truncated",
+BASE_COLUMNS = ["file", "label_id", "status", "label", "confidence", "margin", "novel", "novelty_p_value", "model", "voxel_count", "truncated",
                 "error_code", "error_message", "request_id"]
 
 
@@ -101,6 +103,8 @@ class Record:
     label: str = ""
     confidence: float | None = None
     margin: float | None = None
+    novel: bool | None = None         # None: the model computed no novelty
+    novelty_p_value: float | None = None
     model: str = ""
     probabilities: dict[str, float] = field(default_factory=dict)
     error_code: str = ""
@@ -117,7 +121,7 @@ class Record:
     @classmethod
     def from_result(cls, file: str, r: ClassifyResult, label_id: str = "") -> Record:
         return cls(file=file, status="ok", label=r.label, confidence=r.confidence, margin=r.margin,
-                   model=r.model or "", probabilities=dict(r.probabilities), request_id=r.request_id or "",
+                   novel=r.novel, novelty_p_value=r.novelty_p_value, model=r.model or "", probabilities=dict(r.probabilities), request_id=r.request_id or "",
                    label_id=label_id)
 
     @classmethod
@@ -131,7 +135,8 @@ class Record:
 
     def to_json(self) -> dict[str, Any]:
         return {"file": self.file, "label_id": self.label_id, "status": self.status, "label": self.label,
-                "confidence": self.confidence, "margin": self.margin, "model": self.model,
+                "confidence": self.confidence, "margin": self.margin, "novel": self.novel,
+                "novelty_p_value": self.novelty_p_value, "model": self.model,
                 "probabilities": self.probabilities, "voxel_count": self.voxel_count, "truncated": self.truncated,
                 "error_code": self.error_code, "error_message": self.error_message, "request_id": self.request_id}
 
@@ -141,7 +146,12 @@ class Record:
         if isinstance(truncated, str):
             truncated = {"true": True, "false": False}.get(truncated.lower())
         voxels = d.get("voxel_count")
-        return cls(file=str(d["file"]), status=str(d.get("status", "ok")), label=d.get("label") or "",
+        novel = d.get("novel")
+        if isinstance(novel, str):
+            novel = {"true": True, "false": False}.get(novel.lower())
+        return cls(novel=novel if isinstance(novel, bool) else None,
+                   novelty_p_value=_opt_float(d.get("novelty_p_value")),
+                   file=str(d["file"]), status=str(d.get("status", "ok")), label=d.get("label") or "",
                    confidence=_opt_float(d.get("confidence")), margin=_opt_float(d.get("margin")),
                    model=d.get("model") or "", probabilities={k: float(v) for k, v in
                                                                (d.get("probabilities") or {}).items()},

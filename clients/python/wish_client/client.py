@@ -155,6 +155,9 @@ class ClassifyResult:
         label: the predicted class.
         probabilities: class -> Platt probability, in the model's class order.
         margin: decision value of the winner against the runner-up (libsvm one-vs-one); larger = more confident.
+        novel: True when the sample is none of the types the model knows (its novelty score is above the model's
+            threshold, proto ``Prediction.novel``); None when the model has no novelty calibration.
+        novelty_p_value: how typical the sample is of the training set (conformal p-value; small = unlike it).
         model: name of the model that answered (``name@version`` when the server reports a version).
         request_id: the server's id of the request that produced this result.
         raw: the result object exactly as received (descriptor, timings, warnings, ...).
@@ -167,6 +170,8 @@ class ClassifyResult:
     model: str | None = None
     request_id: str | None = None
     raw: dict[str, Any] = field(default_factory=dict)
+    novel: bool | None = None
+    novelty_p_value: float | None = None
 
     @property
     def confidence(self) -> float | None:
@@ -553,7 +558,15 @@ def _parse_classify(name: str, doc: dict[str, Any]) -> ClassifyResult:
         model=_model_label(pred.get("model")),
         request_id=doc.get("request_id"),
         raw=doc,
+        novel=pred["novel"] if isinstance(pred.get("novel"), bool) else None,
+        novelty_p_value=_novelty_p_value(pred.get("novelty")),
     )
+
+
+def _novelty_p_value(novelty: Any) -> float | None:
+    if isinstance(novelty, dict) and novelty.get("computed") and novelty.get("p_value") is not None:
+        return float(novelty["p_value"])
+    return None
 
 
 def _parse_describe(name: str, doc: dict[str, Any]) -> DescribeResult:

@@ -1,0 +1,274 @@
+// Training at scale (issue 25): the default `wish train` (paper's 13 x 13 grid with 10 stratified shuffle splits,
+// 20 % test split, nested CV 2 x 5 with 5 inner splits, the feature-family comparison) on 250 / 1,000 / 3,000
+// labelled descriptors, new search (precomputed kernel per gamma, early stop) against today's exhaustive search
+// (libsvm RBF per fit, every cell) on the same splits, and the grid search alone against scikit-learn's GridSearchCV
+// (bench/train_scale_sklearn.py, Debian /usr/bin/python3) on the same rows and splits, in the same run.
+//   train_scale_bench [--sizes 250,1000,3000] [--jobs 2] [--exhaustive-max N (whole train, 250)]
+//                     [--grid-exhaustive-max N (grid alone, 1000)] [--whole-max N (1000)] [--sklearn-max N (3000)]
+//                     [--spread S] [--csv REAL.csv ...]
+// Descriptor sets: drawn from the synthetic demo set's descriptors (data/models/demo-descriptors.csv): per class a
+// Gaussian fitted to [log xi(1..10), global descriptors] (covariance shrunk 20 % to its diagonal), widened by
+// --spread (default 1.5: the classes overlap more than in the demo set, as real ones do). --csv adds real labelled
+// descriptor tables (e.g. `wish describe --csv` of UroCell meshes with a label column) as extra rows.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <sys/resource.h>
+#include <unistd.h>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <nlohmann/json.hpp>
+
+#include "core/classify/dataset.hpp"
+#include "core/classify/descriptor_table.hpp"
+#include "core/classify/global_descriptors.hpp"
+#include "core/classify/grid_search.hpp"
+#include "core/classify/splits.hpp"
+#include "core/classify/training.hpp"
+
+namespace {
+
+using namespace wish;
+namespace fs = std::filesystem;
+
+// CPU seconds of this process (all threads) or of its waited-for children: the figure that survives a loaded
+// machine; on an idle machine with J cores the wall time of a J-thread run is about CPU / J.
+double cpu_seconds(int who = RUSAGE_SELF) {
+  rusage u{};
+  getrusage(who, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string run(const std::string& cmd) {
+  std::string out;
+  if (FILE* p = popen(cmd.c_str(), "r")) {
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    pclose(p);
+  }
+  return out;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// n samples, classes of the template in equal shares, from per-class Gaussians in [log xi(1..L), global].
+std::vector<TrainingSample> generate(const std::vector<TrainingSample>& templ, int n, double spread, std::uint64_t seed) {
+  std::map<std::string, std::vector<const TrainingSample*>> by_class;
+  for (const auto& s : templ) by_class[s.label].push_back(&s);
+  const int L = static_cast<int>(templ.front().features.invariants.size()) - 1;
+  const int G = static_cast<int>(templ.front().features.global.size());
+  const int d = L + G;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  std::vector<TrainingSample> out;
+  const int k = static_cast<int>(by_class.size());
+  int c = 0;
+  for (const auto& [label, members] : by_class) {
+    Eigen::MatrixXd Z(static_cast<Eigen::Index>(members.size()), d);
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      for (int l = 1; l <= L; ++l) Z(static_cast<Eigen::Index>(i), l - 1) = std::log(members[i]->features.invariants(l));
+      for (int g = 0; g < G; ++g) Z(static_cast<Eigen::Index>(i), L + g) = members[i]->features.global(g);
+    }
+    const Eigen::RowVectorXd mean = Z.colwise().mean();
+    const Eigen::MatrixXd centred = Z.rowwise() - mean;
+    Eigen::MatrixXd cov = centred.transpose() * centred / std::max<double>(1.0, static_cast<double>(members.size()) - 1);
+    cov = 0.8 * cov + 0.2 * Eigen::MatrixXd(cov.diagonal().asDiagonal());
+    cov += 1e-9 * Eigen::MatrixXd::Identity(d, d);
+    const Eigen::MatrixXd chol = Eigen::LLT<Eigen::MatrixXd>(cov * spread * spread).matrixL();
+    const int count = n / k + (c < n % k ? 1 : 0);
+    for (int i = 0; i < count; ++i) {
+      Eigen::VectorXd z(d);
+      for (int j = 0; j < d; ++j) z(j) = normal(rng);
+      const Eigen::VectorXd v = mean.transpose() + chol * z;
+      TrainingSample s;
+      s.label = label;
+      s.id = label + "/gen_" + std::to_string(i) + ".ply";
+      s.features.invariants.resize(L + 1);
+      s.features.invariants(0) = members.front()->features.invariants(0);
+      for (int l = 1; l <= L; ++l) s.features.invariants(l) = std::exp(v(l - 1));
+      s.features.global = v.tail(G);
+      s.features.global(kGlobalArea) = std::abs(s.features.global(kGlobalArea)) + 1e-3;
+      out.push_back(std::move(s));
+    }
+    ++c;
+  }
+  return out;
+}
+
+struct WholeRun {
+  double seconds = 0, cpu = 0, test = 0, nested = 0, grid_score = 0, C = 0, gamma = 0;
+  int fits = 0, capped = 0, skipped = 0;
+  std::vector<FamilyScore> families;
+};
+
+// The default `wish train` from a descriptor table: train_classifier + the family comparison (as cmd_train.cpp).
+WholeRun whole_train(const std::vector<TrainingSample>& samples, TrainOptions t, bool compare) {
+  WholeRun w;
+  const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_seconds();
+  const TrainingResult r = train_classifier(samples, t);
+  w.families = compare ? compare_feature_families(samples, t, r.report) : std::vector<FamilyScore>{family_score("invariants", r.report)};
+  w.seconds = seconds_since(t0);
+  w.cpu = cpu_seconds() - c0;
+  w.test = r.report.test.accuracy;
+  w.nested = r.report.nested.mean;
+  w.grid_score = r.report.grid.best_score;
+  w.C = r.report.grid.C();
+  w.gamma = r.report.grid.gamma();
+  w.fits = r.report.grid.fits + r.report.nested.fits;
+  w.capped = r.report.grid.total_capped_fits() + r.report.nested.capped_fits;
+  w.skipped = r.report.grid.cells_skipped + r.report.nested.cells_skipped;
+  return w;
+}
+
+TrainOptions default_options(int jobs) {
+  TrainOptions t;  // the defaults of `wish train` (cli/cmd_train.cpp): Lmax 10, log, invariants
+  t.recipe.features.l_max = 10;
+  t.recipe.features.log_transform = true;
+  t.recipe.sh.lmax = 10;
+  t.grid.jobs = jobs;
+  t.trained_at = "2024-01-01T00:00:00Z";
+  return t;
+}
+
+void print_whole(const char* name, std::size_t n, const WholeRun& w) {
+  std::printf("| %s | %zu | %.1f | %.1f | %.3f | %.3f | %.3f | %.0e / %.0e | %d | %d | %d |", name, n, w.seconds, w.cpu,
+              w.grid_score, w.test,
+              w.nested, w.C, w.gamma, w.fits, w.capped, w.skipped);
+  for (const auto& f : w.families) std::printf(" %s %.3f", f.family.c_str(), f.nested_mean);
+  std::printf(" |\n");
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<int> sizes{250, 1000, 3000};
+  std::vector<std::string> real_csvs;
+  int jobs = 2, exhaustive_max = 250, grid_exhaustive_max = 1000, whole_max = 1000, sklearn_max = 3000;
+  double spread = 1.5;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
+    if (a == "--sizes") {
+      sizes.clear();
+      std::stringstream ss(next());
+      for (std::string item; std::getline(ss, item, ',');) sizes.push_back(std::stoi(item));
+    } else if (a == "--jobs") jobs = std::stoi(next());
+    else if (a == "--exhaustive-max") exhaustive_max = std::stoi(next());
+    else if (a == "--whole-max") whole_max = std::stoi(next());
+    else if (a == "--grid-exhaustive-max") grid_exhaustive_max = std::stoi(next());
+    else if (a == "--sklearn-max") sklearn_max = std::stoi(next());
+    else if (a == "--spread") spread = std::stod(next());
+    else if (a == "--csv") real_csvs.push_back(next());
+    else {
+      std::cerr << "usage: train_scale_bench [--sizes 250,1000,3000] [--jobs J] [--exhaustive-max N] "
+                   "[--grid-exhaustive-max N] [--whole-max N] "
+                   "[--sklearn-max N] [--spread S] [--csv REAL.csv ...]\n";
+      return 2;
+    }
+  }
+  const fs::path project_data = WISH_PROJECT_DATA_DEFAULT;
+  const auto templ = read_descriptor_table(read_text(project_data / "models" / "demo-descriptors.csv")).samples;
+  struct Set {
+    std::string name;
+    std::vector<TrainingSample> samples;
+  };
+  std::vector<Set> sets;
+  for (int n : sizes) sets.push_back({"generated", generate(templ, n, spread, 1000 + static_cast<std::uint64_t>(n))});
+  for (const auto& p : real_csvs) sets.push_back({fs::path(p).filename().string(), read_descriptor_table(read_text(p)).samples});
+  // Not __FILE__: with a compiler cache's base directory it is relative to the build directory.
+  const fs::path script = project_data.parent_path() / "bench" / "train_scale_sklearn.py";
+  const fs::path tmp = fs::temp_directory_path() / ("wish_train_scale_" + std::to_string(::getpid()));
+  fs::create_directories(tmp);
+
+  std::printf("## whole default `wish train` (grid 13 x 13 x 10 splits, test split, nested CV 2 x 5 x 5 inner, 3 families), %d jobs\n\n", jobs);
+  std::printf("| search | n | wall s | CPU s | grid score | test acc | nested CV | best C / gamma | fits | capped fits | cells skipped | nested CV per family |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& set : sets) {
+    const std::size_t n = set.samples.size();
+    if (static_cast<int>(n) > whole_max) continue;
+    const bool compare = set.samples.front().features.global.size() > 0;
+    TrainOptions t = default_options(jobs);
+    print_whole(("new (" + set.name + ")").c_str(), n, whole_train(set.samples, t, compare));
+    if (static_cast<int>(n) <= exhaustive_max) {
+      t.grid.precomputed_kernel = false;
+      t.grid.early_stop = false;
+      print_whole(("exhaustive (" + set.name + ")").c_str(), n, whole_train(set.samples, t, compare));
+    }
+  }
+
+  std::printf("\n## grid search alone + final fit + test split (same rows, hold-out and 10 validation splits), %d jobs\n\n", jobs);
+  std::printf("| search | n | grid wall s | train CPU s | grid score | best C / gamma | test acc | fits | capped fits | cells skipped |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& set : sets) {
+    const std::size_t n = set.samples.size();
+    TrainOptions t = default_options(jobs);
+    t.nested_repeats = 0;
+    auto row = [&](const char* name, const TrainOptions& o) {
+      const double c0 = cpu_seconds();
+      const TrainingResult r = train_classifier(set.samples, o);
+      std::printf("| %s (%s) | %zu | %.1f | %.1f | %.3f | %.0e / %.0e | %.3f | %d | %d | %d |\n", name, set.name.c_str(), n,
+                  r.report.grid.seconds, cpu_seconds() - c0, r.report.grid.best_score, r.report.grid.C(), r.report.grid.gamma(),
+                  r.report.test.accuracy, r.report.grid.fits, r.report.grid.total_capped_fits(), r.report.grid.cells_skipped);
+      std::fflush(stdout);
+      return r;
+    };
+    const TrainingResult ours = row("new", t);
+    if (static_cast<int>(n) <= grid_exhaustive_max) {
+      TrainOptions e = t;
+      e.grid.precomputed_kernel = false;
+      e.grid.early_stop = false;
+      row("exhaustive", e);
+    }
+    if (static_cast<int>(n) > sklearn_max) continue;
+    // The same rows, hold-out and validation splits as train_classifier (seeds: test = seed, grid = seed + 1).
+    Eigen::MatrixXd X;
+    std::vector<int> y;
+    std::vector<std::string> classes;
+    build_feature_matrix(set.samples, t.recipe.features, X, y, classes);
+    const Split holdout = stratified_shuffle_split(y, 1, t.test_fraction, t.seed).front();
+    std::vector<int> y_train;
+    for (int i : holdout.train) y_train.push_back(y[i]);
+    const auto grid_splits = stratified_shuffle_split(y_train, t.grid_splits, t.grid_validation_fraction, t.seed + 1);
+    nlohmann::json spec;
+    spec["labels"] = y;
+    spec["holdout"] = {{"train", holdout.train}, {"test", holdout.test}};
+    for (const auto& s : grid_splits) spec["grid_splits"].push_back({{"train", s.train}, {"test", s.test}});
+    const fs::path csv = tmp / "descriptors.csv", splits = tmp / "splits.json";
+    std::ofstream(csv) << write_descriptor_table(set.samples);
+    std::ofstream(splits) << spec.dump();
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_seconds(RUSAGE_CHILDREN);
+    const std::string out = run("timeout 1800 /usr/bin/python3 '" + script.string() + "' '" + csv.string() + "' '" +
+                                splits.string() + "' --jobs " + std::to_string(jobs) + " 2>/dev/null");
+    try {
+      const auto j = nlohmann::json::parse(out);
+      std::printf("| scikit-learn GridSearchCV (%s) | %zu | %.1f | %.1f | %.3f | %.0e / %.0e | %.3f | %zu | — | 0 |\n", set.name.c_str(), n,
+                  j["grid_seconds"].get<double>(), cpu_seconds(RUSAGE_CHILDREN) - c0, j["grid_score"].get<double>(), j["best_C"].get<double>(),
+                  j["best_gamma"].get<double>(), j["test_accuracy"].get<double>(), 169 * grid_splits.size());
+    } catch (const std::exception&) {
+      std::printf("| scikit-learn GridSearchCV (%s) | %zu | not finished (%.0f s; sklearn missing or past the 1800 s limit) |\n",
+                  set.name.c_str(), n, seconds_since(t0));
+    }
+    std::fflush(stdout);
+  }
+  fs::remove_all(tmp);
+  return 0;
+}
