@@ -276,6 +276,8 @@ json novelty_to_json(const NoveltyCalibration& c) {
 }
 
 NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features) {
+  if (!j.is_object()) invalid("payload.novelty is not an object");
+  refuse_unknown_keys(j, {"k", "quantile", "reference", "loo_scores"}, "payload.novelty");
   NoveltyCalibration c;
   c.k = static_cast<int>(integer(j, "k", "novelty"));
   c.quantile = num(j, "quantile", "novelty");
@@ -314,7 +316,7 @@ json payload_without_novelty(const ClassifierModel::State& s) {
 
 std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
   if (!p.is_object()) invalid("payload is not an object");
-  refuse_unknown_keys(p, {"name", "version", "classes", "recipe", "scaler", "svm", "training"}, "payload");
+  refuse_unknown_keys(p, {"name", "version", "classes", "recipe", "scaler", "svm", "training", "novelty"}, "payload");
   // SVM first: the State owns it by value.
   const json& sj = field(p, "svm", "payload");
   refuse_unknown_keys(sj,

@@ -184,7 +184,8 @@ TEST(ModelFile, RefusesUnknownKeysAnywhereNamingThem) {
       {"payload", "recipe", "map", "cmcf"},
       {"payload", "recipe", "map", "area_correction"},
       {"payload", "recipe", "sh"},
-      {"payload", "recipe", "features"}};
+      {"payload", "recipe", "features"},
+      {"payload", "novelty"}};
   for (const auto& place : places) {
     auto d = doc;
     nlohmann::json* at = &d;
