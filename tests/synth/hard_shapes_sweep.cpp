@@ -37,7 +37,7 @@ TEST(HardShapes, NeedleStatsOfKnownTriangles) {
   EXPECT_DOUBLE_EQ(s.small_angle_share, 0.5);
 }
 
-TEST(HardShapes, EveryShapeIsAClosedGenusZeroMeshAndTheNeedleVersionsAreNeedleHeavy) {
+TEST(SlowHardShapes, EveryShapeIsAClosedGenusZeroMeshAndTheNeedleVersionsAreNeedleHeavy) {
   for (const HardShape& shape : hard_shape_catalogue()) {
     const bool needle = shape.tessellation == Tessellation::NeedleHeavy;
     SCOPED_TRACE(shape.name + (needle ? " (needle-heavy)" : " (fine)"));
