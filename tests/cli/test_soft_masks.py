@@ -14,15 +14,13 @@ import json
 import os
 import shutil
 import struct
-import subprocess
 import tempfile
 import unittest
 
+from wish_cli import WISH_BIN, read_text, run  # tests/testing
+
 import synthetic_volume
 
-SOURCE_DIR = os.environ.get("WISH_SOURCE_DIR", os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")))
-WISH_BIN = os.environ.get("WISH_BIN", os.path.join(SOURCE_DIR, "build", "release", "cli", "wish"))
-ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
 N = 32
 
 
@@ -83,16 +81,6 @@ def ellipsoid(k):
     return soft_ellipsoid((15.4, 15.2 + 0.2 * k, 15.7), tuple(axes))
 
 
-def read_text(path):
-    with open(path) as f:
-        return f.read()
-
-
-def run(*args, check=True):
-    p = subprocess.run([WISH_BIN, *args], capture_output=True, text=True, env=ENV, timeout=600)
-    if check and p.returncode != 0:
-        raise AssertionError(f"wish {' '.join(args)} exited {p.returncode}:\n{p.stderr[-3000:]}")
-    return p
 
 
 class SoftMasks(unittest.TestCase):

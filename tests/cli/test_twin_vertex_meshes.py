@@ -12,24 +12,17 @@ import io
 import json
 import os
 import shutil
-import subprocess
 import tempfile
 import unittest
+
+from wish_cli import WISH_BIN, run  # tests/testing
 
 import twin_vertex_mesh as twin
 
 SOURCE_DIR = os.environ.get("WISH_SOURCE_DIR", os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")))
-WISH_BIN = os.environ.get("WISH_BIN", os.path.join(SOURCE_DIR, "build", "release", "cli", "wish"))
 SHARED_DATA = os.environ.get("WISH_SHARED_DATA", os.path.join(SOURCE_DIR, "..", "shared", "data"))
 NMV_SPINES = os.path.join(SHARED_DATA, "hard", "nmv_spines")
-ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
 
-
-def run(*args, check=True):
-    p = subprocess.run([WISH_BIN, *args], capture_output=True, text=True, env=ENV, timeout=600)
-    if check and p.returncode != 0:
-        raise AssertionError("wish %s exited %d:\n%s\n%s" % (" ".join(args), p.returncode, p.stdout[-2000:], p.stderr[-2000:]))
-    return p
 
 
 def write(path, data):

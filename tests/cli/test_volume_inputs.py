@@ -11,16 +11,15 @@ import io
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
 
+from wish_cli import WISH_BIN, read_text, run  # tests/testing
+
 import synthetic_volume
 
 SOURCE_DIR = os.environ.get("WISH_SOURCE_DIR", os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")))
-WISH_BIN = os.environ.get("WISH_BIN", os.path.join(SOURCE_DIR, "build", "release", "cli", "wish"))
-ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
 
 
 def nifti_bytes(dims, labels, spacing=(1.0, 1.0, 1.0)):
@@ -87,16 +86,6 @@ def long_volume(shift):
                    (3, ellipsoid((52, 12, 13), (8.0 - shift, 3.5, 3.8), SPACING))])
 
 
-def read_text(path):
-    with open(path) as f:
-        return f.read()
-
-
-def run(*args, check=True):
-    p = subprocess.run([WISH_BIN, *args], capture_output=True, text=True, env=ENV, timeout=600)
-    if check and p.returncode != 0:
-        raise AssertionError(f"wish {' '.join(args)} exited {p.returncode}:\n{p.stderr[-3000:]}")
-    return p
 
 
 class VolumeInputs(unittest.TestCase):
