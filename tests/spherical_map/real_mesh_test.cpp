@@ -8,7 +8,9 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
+#include "core/geometry/mass_matrix.hpp"
 #include "core/mesh/icosphere.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "core/validation/mesh_report.hpp"
@@ -98,6 +100,22 @@ TEST(IntrinsicOperator, DelaunayFlipsRemoveEveryNegativeWeightAndKeepTheMetric) 
   const Eigen::VectorXd x = m.vertices.col(0);
   const double e0 = x.dot(mollified.laplacian * x), e1 = x.dot(delaunay.laplacian * x);
   EXPECT_NEAR(e1, e0, 0.02 * e0);
+}
+
+TEST(IntrinsicOperator, EqualsTheCotanLaplacianOnAnAlreadyDelaunayMesh) {
+  // A subdivided icosahedron on the unit sphere: every edge is Delaunay (opposite angles sum to less than π), so the
+  // intrinsic operator must do no flip and give exactly the extrinsic cotan Laplacian and the lumped mass of the
+  // mesh's own triangles (no mollification on a clean mesh: ε = 0).
+  const Mesh m = make_icosphere(3);
+  const geometry::IntrinsicOperator op = geometry::intrinsic_operator(m.vertices, m.faces);
+  EXPECT_EQ(op.stats.negative_weights_before, 0);
+  EXPECT_EQ(op.stats.flips, 0);
+  EXPECT_EQ(op.stats.epsilon, 0.0);
+  const Eigen::SparseMatrix<double> cotan = geometry::cotan_laplacian(m.vertices, m.faces);
+  const Eigen::SparseMatrix<double> difference = op.laplacian - cotan;
+  EXPECT_LT(difference.norm(), 1e-12 * cotan.norm());
+  EXPECT_LT((op.mass - geometry::lumped_mass(m.vertices, m.faces)).cwiseAbs().maxCoeff(), 1e-14);
+  for (const auto& e : op.edges) EXPECT_GT(e.weight, 0.0);
 }
 
 TEST(IntrinsicOperator, MollificationMakesZeroAreaFacesValid) {
