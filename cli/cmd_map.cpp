@@ -12,6 +12,7 @@
 #include "cli/command_registry.hpp"
 #include "cli/enum_option.hpp"
 #include "core/common/deadline.hpp"
+#include "core/common/stage_profile.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/spherical_map/map_types.hpp"
@@ -93,8 +94,14 @@ CommandRunner setup_map(CLI::App& sub) {
   sub.add_flag("--json", args->json, "Print the report as JSON");
   return [args]() -> int {
     check_overrides(args->overrides, "--steps");
-    const ReadResult read = read_mesh_file(args->input);
-    const PreparedMesh prepared = prepare_for_mapping(read.mesh);
+    const ReadResult read = [&] {
+      const profile::ScopedStage stage("io.read");
+      return read_mesh_file(args->input);
+    }();
+    const PreparedMesh prepared = [&] {
+      const profile::ScopedStage stage("prepare");
+      return prepare_for_mapping(read.mesh);
+    }();
     require_mappable(prepared);
     SphericalMapOptions options;
     apply_overrides(args->overrides, options);
@@ -107,6 +114,7 @@ CommandRunner setup_map(CLI::App& sub) {
       Mesh sphere;
       sphere.vertices = result.sphere;
       sphere.faces = prepared.mesh.faces;
+      const profile::ScopedStage stage("io.write");
       write_mesh_file(sphere, args->output);
     }
     if (args->json)

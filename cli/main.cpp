@@ -9,6 +9,7 @@
 #include "cli/command_registry.hpp"
 #include "core/common/errors.hpp"
 #include "core/common/process_signals.hpp"
+#include "core/common/stage_profile.hpp"
 
 namespace wish::cli {
 
@@ -28,6 +29,13 @@ const std::vector<Command>& registered_commands() { return registry(); }
 
 int main(int argc, char** argv) {
   using namespace wish::cli;
+  wish::profile::enable_stage_profile_from_environment();
+  // The table goes to stderr whatever path main() leaves by (a failed map returns early).
+  struct PrintProfile {
+    ~PrintProfile() {
+      if (wish::profile::stage_profile_enabled()) std::cerr << wish::profile::stage_profile_table();
+    }
+  } print_profile;
   CLI::App app{"WISH: rotation-invariant spectral shape descriptors and cell-type classification of "
                "closed genus-0 meshes (Willmore flow + spherical harmonics + SVM)"};
   app.set_version_flag("--version", std::string("wish ") + WISH_VERSION);

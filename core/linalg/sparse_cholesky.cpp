@@ -3,7 +3,10 @@
 #include <cholmod.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <stdexcept>
+
+#include "core/common/stage_profile.hpp"
 #include <type_traits>
 
 #include <Eigen/SparseCholesky>
@@ -135,7 +138,22 @@ template <class Scalar>
 SparseCholeskyT<Scalar>::~SparseCholeskyT() = default;
 
 template <class Scalar>
+bool SparseCholeskyT<Scalar>::same_pattern(const Matrix& a) const {
+  if (!analyzed_ || !a.isCompressed() || a.rows() != impl_->n || a.cols() != impl_->n) return false;
+  const size_t outer = static_cast<size_t>(a.cols()) + 1, inner = static_cast<size_t>(a.nonZeros());
+  return pattern_outer_.size() == outer && pattern_inner_.size() == inner &&
+         std::equal(pattern_outer_.begin(), pattern_outer_.end(), a.outerIndexPtr()) &&
+         std::equal(pattern_inner_.begin(), pattern_inner_.end(), a.innerIndexPtr());
+}
+
+template <class Scalar>
 bool SparseCholeskyT<Scalar>::analyze(const Matrix& a) {
+  if (same_pattern(a)) {  // the analysis would come out the same: keep it (and the factor's storage)
+    factorized_ = false;
+    message_.clear();
+    return true;
+  }
+  const profile::ScopedStage stage(std::is_same_v<Scalar, double> ? "cholesky.analyze (real)" : "cholesky.analyze (complex)");
   analyzed_ = factorized_ = false;
   message_.clear();
   if (a.rows() != a.cols() || !a.isCompressed()) {
@@ -159,12 +177,16 @@ bool SparseCholeskyT<Scalar>::analyze(const Matrix& a) {
     }
   }
   analyzed_ = true;
+  ++analysis_count_;
+  pattern_outer_.assign(a.outerIndexPtr(), a.outerIndexPtr() + a.cols() + 1);
+  pattern_inner_.assign(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros());
   return true;
 }
 
 template <class Scalar>
 bool SparseCholeskyT<Scalar>::factorize(const Matrix& a, double shift) {
-  if (!analyzed_ && !analyze(a)) return false;
+  if (!same_pattern(a) && !analyze(a)) return false;
+  const profile::ScopedStage stage(std::is_same_v<Scalar, double> ? "cholesky.factorize (real)" : "cholesky.factorize (complex)");
   factorized_ = false;
   message_.clear();
   if (a.rows() != impl_->n) {
@@ -202,6 +224,7 @@ bool SparseCholeskyT<Scalar>::factorize(const Matrix& a, double shift) {
 template <class Scalar>
 typename SparseCholeskyT<Scalar>::Dense SparseCholeskyT<Scalar>::solve(const Dense& b) const {
   if (!factorized_) throw std::logic_error("SparseCholesky::solve without a successful factorisation");
+  const profile::ScopedStage stage(std::is_same_v<Scalar, double> ? "cholesky.solve (real)" : "cholesky.solve (complex)");
   if (options_.backend == CholeskyBackend::EigenSimplicial) return impl_->ldlt.solve(b);
   const SerialCholmodOpenMp serial;
   cholmod_dense db{};

@@ -54,9 +54,11 @@ class SparseCholeskyT {
   SparseCholeskyT(const SparseCholeskyT&) = delete;
   SparseCholeskyT& operator=(const SparseCholeskyT&) = delete;
 
-  // Symbolic analysis of the pattern of `a`. Returns false on failure (message() says why).
+  // Symbolic analysis of the pattern of `a`. Returns false on failure (message() says why). A pattern equal to the
+  // one already analysed keeps that analysis (a flow that calls analyze() every step pays for it once per mesh).
   bool analyze(const Matrix& a);
-  // Numeric factorisation of a + shift·I; `a` must have the pattern given to analyze() (analyzes first if none).
+  // Numeric factorisation of a + shift·I. The symbolic analysis is redone only when the pattern of `a` differs from
+  // the analysed one (or none was done): the comparison is O(nnz), the analysis it saves is not.
   bool factorize(const Matrix& a, double shift = 0.0);
   // x = (a + shift·I)⁻¹ b for every column of b; requires a successful factorize(). Throws std::logic_error
   // otherwise.
@@ -67,6 +69,8 @@ class SparseCholeskyT {
   void release_values();
 
   bool analyzed() const { return analyzed_; }
+  // How many symbolic analyses this object has run (for tests of the reuse).
+  long analysis_count() const { return analysis_count_; }
   bool factorized() const { return factorized_; }
   const std::string& message() const { return message_; }
   CholeskyBackend backend() const { return options_.backend; }
@@ -81,6 +85,10 @@ class SparseCholeskyT {
   std::unique_ptr<Impl> impl_;
   bool analyzed_ = false;
   bool factorized_ = false;
+  long analysis_count_ = 0;
+  // The analysed pattern (column starts and row indices), to tell a new pattern from the same one.
+  std::vector<int> pattern_outer_, pattern_inner_;
+  bool same_pattern(const Matrix& a) const;
   std::string message_;
 };
 

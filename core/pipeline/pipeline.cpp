@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/classify/global_descriptors.hpp"
+#include "core/common/stage_profile.hpp"
 #include "core/sh/sh_fit.hpp"
 #include "core/sh/sh_reconstruction.hpp"
 
@@ -41,7 +42,10 @@ PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const De
   PipelineResult result;
 
   auto t = Clock::now();
-  result.prepared = prepare_for_mapping(std::move(mesh), options.repair);
+  {
+    const profile::ScopedStage stage("prepare");
+    result.prepared = prepare_for_mapping(std::move(mesh), options.repair);
+  }
   require_mappable(result.prepared);
   result.timings.validate = seconds_since(t);
   deadline.check("validation");
@@ -53,6 +57,7 @@ PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const De
   deadline.check("spherical map");
 
   t = Clock::now();
+  const profile::ScopedStage fit_stage("sh.fit+invariants");
   result.sh = fit_spherical_harmonics(result.prepared.mesh, result.map.sphere, options.sh);
   result.features.invariants = result.sh.invariants;
   if (options.compute_global_features) result.features.global = global_shape_descriptors(result.prepared.mesh);
@@ -66,7 +71,10 @@ PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const De
 
 PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions& options, const Deadline& deadline) {
   const auto start = Clock::now();
-  ReadResult read = read_mesh(bytes, options.read);
+  ReadResult read = [&] {
+    const profile::ScopedStage stage("io.read");
+    return read_mesh(bytes, options.read);
+  }();
   const double read_seconds = seconds_since(start);
   deadline.check("reading");
 

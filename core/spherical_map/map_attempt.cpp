@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/common/stage_profile.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/mass_matrix.hpp"
 #include "core/geometry/roundness.hpp"
@@ -81,8 +82,12 @@ MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOpt
     return kept;
   };
   if (sphere.allFinite()) {
-    mobius = rebalance();
+    {
+      const profile::ScopedStage stage("map.mobius");
+      mobius = rebalance();
+    }
     if (options.untangle) {
+      const profile::ScopedStage stage("map.repair (untangle)");
       const double repair0 = CpuBudget::thread_cpu_seconds();
       const ChartUntangleResult charts = untangle_in_charts(sphere, context.mesh().vertices, context.faces(),
                                                             options.verification, {}, repair_budget);
@@ -152,7 +157,11 @@ AttemptRun run_attempt(const MapContext& context, const MapAttemptPlan& plan, co
   attempt.filtered = plan.filtered;
   attempt.max_steps = plan.max_steps;
   attempt.continued_from = control.start ? plan.continue_from : -1;
-  FlowResult flow = run_method(context, plan, options, control);
+  FlowResult flow = [&] {
+    const profile::ScopedStage stage("map.flow (whole method)");
+    return run_method(context, plan, options, control);
+  }();
+  const profile::ScopedStage after_flow("map.after_flow (project, Mobius, repair, verify)");
   attempt.steps = std::move(flow.steps);
   attempt.hit_step_cap = flow.hit_step_cap;
   attempt.stop = flow.stop;
@@ -166,7 +175,10 @@ AttemptRun run_attempt(const MapContext& context, const MapAttemptPlan& plan, co
   const MobiusResult mobius =
       balance_and_repair(context, options, repair_budget, !flow.keep_normalisation, run.sphere, attempt);
   const long repaired = attempt.quality.repaired_vertices;
-  attempt.quality = measure_map(context.mesh().vertices, context.faces(), run.sphere, options.verification);
+  {
+    const profile::ScopedStage stage("map.verify");
+    attempt.quality = measure_map(context.mesh().vertices, context.faces(), run.sphere, options.verification);
+  }
   attempt.quality.repaired_vertices = repaired;
   attempt.quality.roundness = flow.roundness;
   attempt.quality.mobius_centroid = mobius.centroid;

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/common/errors.hpp"
+#include "core/common/stage_profile.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/mass_matrix.hpp"
 #include "core/spherical_map/flow_result.hpp"
@@ -63,8 +64,10 @@ MapContext::MapContext(const Mesh& mesh, LinearSolverKind solver, const geometry
 }
 
 const std::vector<int>& MapContext::ordering() const {
-  if (!ordering_)
+  if (!ordering_) {
+    const profile::ScopedStage stage("map.context.metis_ordering");
     ordering_ = solver_ == LinearSolverKind::Cholmod ? linalg::metis_ordering(pattern_.pattern) : std::vector<int>{};
+  }
   return *ordering_;
 }
 

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "core/common/cpu_budget.hpp"
+#include "core/common/stage_profile.hpp"
 #include "core/spherical_map/map_context.hpp"
 
 namespace wish {
@@ -48,7 +49,11 @@ void correct_area(const Mesh& mesh, const SphericalMapOptions& options, const Ei
 SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOptions& options, const Deadline& deadline) {
   const Clock::time_point t0 = Clock::now();
   const double cpu0 = CpuBudget::thread_cpu_seconds();
-  const spherical::MapContext context(mesh, options.solver, options.laplacian);
+  const profile::ScopedStage stage("map");
+  const spherical::MapContext context = [&] {
+    const profile::ScopedStage context_stage("map.context (checks, pattern, mass)");
+    return spherical::MapContext(mesh, options.solver, options.laplacian);
+  }();
   spherical::ChainOutcome chain = spherical::run_chain(context, options, deadline);
 
   SphericalMapResult result;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/stage_profile.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/geometry/mean_curvature.hpp"
@@ -85,6 +86,7 @@ struct SurfaceState {
 };
 
 void update_state(const Eigen::MatrixX3i& faces, const geometry::IntrinsicOptions& laplacian, SurfaceState& s) {
+  const profile::ScopedStage stage("willmore.surface_state (operator, H, energy)");
   geometry::IntrinsicOperator op = geometry::intrinsic_operator(s.x, faces, laplacian);
   s.areas = std::move(op.input_face_areas);
   s.laplacian = std::move(op.laplacian);
@@ -246,10 +248,16 @@ class WillmoreRun {
       return Try::Failed;
     }
     const Eigen::VectorXd rho = -tau_ * project_admissible(g, state_.mass, state_.normals);
-    const double mean_diag = dirac_.assemble(state_.x, faces_, state_.areas, rho);
+    const double mean_diag = [&] {
+      const profile::ScopedStage stage("willmore.dirac_assemble");
+      return dirac_.assemble(state_.x, faces_, state_.areas, rho);
+    }();
     rec.geometry_seconds = seconds_since(t0);
     // λ: smallest eigenvector of 𝔼(ρ).
-    const EigenSolveReport eig = dirac_.solve(mean_diag, eigen_options_, lambda_);
+    const EigenSolveReport eig = [&] {
+      const profile::ScopedStage stage("willmore.eigen (factor + inverse iteration)");
+      return dirac_.solve(mean_diag, eigen_options_, lambda_);
+    }();
     dirac_.release_factor();  // one numeric factor alive at a time: the Poisson one is next
     rec.factor_seconds = eig.factor_seconds;
     rec.eigen_seconds = eig.solve_seconds;
@@ -267,7 +275,10 @@ class WillmoreRun {
     }
     // New positions: divergence of the transformed edges, pinned Poisson solve.
     t0 = Clock::now();
-    const bool poisson_ok = poisson_step(next);
+    const bool poisson_ok = [&] {
+      const profile::ScopedStage stage("willmore.poisson (incl. next surface state)");
+      return poisson_step(next);
+    }();
     rec.poisson_seconds = seconds_since(t0);
     if (!poisson_ok) {
       rec.accepted = false;

@@ -102,6 +102,63 @@ TEST_P(SparseCholeskyBackends, ComplexHermitianSolve) {
   EXPECT_LT((a * solver.solve(b) - b).norm() / b.norm(), 1e-10);
 }
 
+// The factor kept from one analysis (analyze() called again every step with the same pattern, as a flow does) must
+// give the solution a fresh solver gives: to round-off, for new values and a new shift each time.
+TEST_P(SparseCholeskyBackends, ReusedAnalysisSolvesAsAFreshFactor) {
+  const Eigen::SparseMatrix<double> l = grid_laplacian(24);
+  for (CholmodMode mode : {CholmodMode::Supernodal, CholmodMode::Simplicial, CholmodMode::Auto}) {
+    CholeskyOptions o;
+    o.backend = GetParam();
+    o.cholmod_mode = mode;
+    SparseCholesky reused(o);
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(l.rows(), 3);
+    for (int step = 0; step < 4; ++step) {
+      Eigen::SparseMatrix<double> a = l * (1.0 + step);
+      for (Eigen::Index i = 0; i < a.rows(); ++i) a.coeffRef(i, i) += 0.1 + 0.01 * static_cast<double>(i % 7) * step;
+      const double shift = 0.05 * step;
+      ASSERT_TRUE(reused.analyze(a) && reused.factorize(a, shift)) << reused.message();
+      SparseCholesky fresh(o);
+      ASSERT_TRUE(fresh.analyze(a) && fresh.factorize(a, shift)) << fresh.message();
+      const Eigen::MatrixXd x = reused.solve(b), y = fresh.solve(b);
+      EXPECT_LT((x - y).norm(), 1e-12 * y.norm()) << "step " << step;
+      if (step % 2 == 1) reused.release_values();  // the flows release between steps: the analysis stays
+    }
+    EXPECT_EQ(reused.analysis_count(), 1);
+  }
+}
+
+// A matrix of the same size but another pattern must not be factored on the old analysis (that would be a wrong
+// factor, not an error): factorize() sees the new pattern and analyses again.
+TEST_P(SparseCholeskyBackends, NewPatternOfTheSameSizeIsAnalysedAgain) {
+  const Eigen::SparseMatrix<double> l = grid_laplacian(16);
+  const Eigen::Index n = l.rows();
+  // The grid plus long-range couplings (i, i + n/2) that the grid's analysis has no room for; still SPD (strictly
+  // diagonally dominant).
+  Eigen::SparseMatrix<double> coupled = l;
+  for (Eigen::Index i = 0; i < n / 2; ++i) {
+    coupled.coeffRef(i + n / 2, i) = -0.5;
+    coupled.coeffRef(i, i + n / 2) = -0.5;
+    coupled.coeffRef(i, i) += 1.0;
+    coupled.coeffRef(i + n / 2, i + n / 2) += 1.0;
+  }
+  coupled.makeCompressed();
+  CholeskyOptions o;
+  o.backend = GetParam();
+  SparseCholesky solver(o);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n, 1);
+  ASSERT_TRUE(solver.factorize(l, 0.5)) << solver.message();
+  ASSERT_TRUE(solver.factorize(coupled, 0.5)) << solver.message();
+  EXPECT_EQ(solver.analysis_count(), 2);
+  Eigen::SparseMatrix<double> shifted = coupled;
+  for (Eigen::Index i = 0; i < n; ++i) shifted.coeffRef(i, i) += 0.5;
+  EXPECT_LT((shifted * solver.solve(b) - b).norm() / b.norm(), 1e-10);
+  ASSERT_TRUE(solver.factorize(l, 0.5)) << solver.message();  // and back
+  EXPECT_EQ(solver.analysis_count(), 3);
+  shifted = l;
+  for (Eigen::Index i = 0; i < n; ++i) shifted.coeffRef(i, i) += 0.5;
+  EXPECT_LT((shifted * solver.solve(b) - b).norm() / b.norm(), 1e-10);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, SparseCholeskyBackends,
                          ::testing::Values(CholeskyBackend::Cholmod, CholeskyBackend::EigenSimplicial),
                          [](const auto& info) { return std::string(info.param == CholeskyBackend::Cholmod ? "Cholmod" : "Eigen"); });
