@@ -482,14 +482,14 @@ function noveltyLine(p) {
     return line;
   }
   line.dataset.novel = String(p.novel);
-  const figures = `score ${fmt(n.score, 3)}, threshold ${fmt(n.threshold, 3)} (the ${fmt(100 * n.quantile, 3)}th percentile of the nearest class's own), p = ${fmt(n.p_value, 3)}`;
+  const figures = `score ${fmt(n.score, 3)}, threshold ${fmt(n.threshold, 3)} (the training set's ${fmt(100 * n.quantile, 3)}th percentile), p = ${fmt(n.p_value, 3)}`;
   if (p.novel) {
     line.className = 'novel';
     const strong = document.createElement('strong');
     strong.textContent = 'Novel: none of the known types?';
-    line.append(strong, ` This shape is unlike every class the model was trained on (${figures}); the label below is the nearest known type, not a finding.`);
+    line.append(strong, ` This shape is unlike every training sample of the model (${figures}); the label below is the nearest known type, not a finding.`);
   } else {
-    line.textContent = `Within the range of a known class (${figures}).`;
+    line.textContent = `Within the training set's range (${figures}).`;
   }
   return line;
 }
