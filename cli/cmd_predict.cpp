@@ -59,8 +59,8 @@ CommandRunner setup_predict(CLI::App& sub) {
   sub.add_flag("--csv", o->csv, "CSV: file, label_id, label, margin, novel, novelty_score, novelty_p_value, p_<class>...")
       ->excludes(json);
   sub.add_option("--novelty-quantile", o->novelty_quantile,
-                 "Flag a sample novel (none of the known types) when its novelty score is above this quantile of the "
-                 "training set's leave-one-out scores (0: the model's own, 0.99 by default)")
+                 "Flag a sample novel (none of the known types) when its novelty score against every class is above this "
+                 "quantile of that class's leave-one-out scores (0: the model's own, 0.99 by default)")
       ->check(CLI::Range(0.0, 0.999999))->capture_default_str();
   sub.add_flag("--quiet", o->quiet, "No progress line for label volumes");
   add_volume_options(sub, o->volume);

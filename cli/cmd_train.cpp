@@ -130,8 +130,8 @@ CommandRunner setup_train(CLI::App& sub) {
                "Grid search: stop a gamma row, C ascending, after 2 consecutive C whose mean validation accuracy is "
                "more than 0.05 below the row's best (default on; --no-early-stop: every cell)");
   sub.add_option("--novelty-quantile", o->novelty_quantile,
-                 "The model's default novelty threshold: this quantile of the training set's leave-one-out k-NN "
-                 "distances (a prediction above it says novel: true; predict/serve may override)")
+                 "The model's default novelty threshold: per class, this quantile of the class's leave-one-out k-NN "
+                 "distances (a prediction above every class's says novel: true; predict/serve may override)")
       ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
   sub.add_flag("--refit-all", o->refit_all, "Refit the final model on all samples (default: on the training split)");
   sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");

@@ -83,8 +83,11 @@ nlohmann::json training_report_json(const TrainingReport& r) {
   if (!r.test_novel.empty() || r.novelty_threshold > 0) {
     int flagged = 0;
     for (bool b : r.test_novel) flagged += b;
-    doc["novelty"] = {{"threshold", r.novelty_threshold}, {"quantile", r.novelty_quantile}, {"test_samples", r.test_novel.size()}, {"test_flagged", flagged},
-                      {"test_scores", r.test_novelty}};
+    json per_class = json::object();
+    for (std::size_t c = 0; c < r.novelty_class_thresholds.size() && c < r.classes.size(); ++c)
+      per_class[r.classes[c]] = r.novelty_class_thresholds[c];
+    doc["novelty"] = {{"threshold", r.novelty_threshold}, {"class_thresholds", per_class}, {"quantile", r.novelty_quantile},
+                      {"test_samples", r.test_novel.size()}, {"test_flagged", flagged}, {"test_scores", r.test_novelty}};
   }
   return doc;
 }

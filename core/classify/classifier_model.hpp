@@ -69,9 +69,12 @@ class ClassifierModel {
   // 2: the descriptor recipe (map + fit + features + off-recipe policy) in payload.recipe. Version 1 files
   // (payload.descriptor + payload.features) load through a migration with policy accept_flagged, which is
   // what version-1 code did with fallback maps.
-  // 3: payload.novelty (the novelty calibration, issue 25). A model with it is written as version 3, so a reader
-  // of versions 1..2 refuses it rather than silently ignoring the block; one without it is still written as 2.
-  static constexpr int kFormatVersion = 3;
+  // 3: payload.novelty (the novelty calibration, issue 25), one reference set. A model with it is written as
+  // version 3, so a reader of versions 1..2 refuses it rather than silently ignoring the block; one without it
+  // is still written as 2.
+  // 4: payload.novelty per class (reference_classes, one list of leave-one-out scores per class; novelty.hpp).
+  // Format-3 files keep loading and computing their one-set figure.
+  static constexpr int kFormatVersion = 4;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.

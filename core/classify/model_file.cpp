@@ -270,20 +270,44 @@ std::vector<ClassSpectrum> class_spectra_from_json(const json& t) {
 
 json payload_without_novelty(const ClassifierModel::State& s);
 
-// Optional block (format 3, issue 25): the novelty calibration (novelty.hpp).
+// Optional block (issue 25): the novelty calibration (novelty.hpp).
+//  format 3: one reference set — {k, quantile, reference, loo_scores: [...]};
+//  format 4: per class — {k, quantile, reference, reference_classes: [class index per row],
+//            loo_scores: [[...] per class]}.
+// Each format's keys are exactly its own: a format-3 reader meets reference_classes and refuses the file by it
+// (model_version), and this build reads a format-3 block as the one-set figure it was written as.
 json novelty_to_json(const NoveltyCalibration& c) {
-  return {{"k", c.k}, {"quantile", c.quantile}, {"reference", rows(c.reference)}, {"loo_scores", c.loo_scores}};
+  json j = {{"k", c.k}, {"quantile", c.quantile}, {"reference", rows(c.reference)}};
+  if (c.per_class) {
+    j["reference_classes"] = c.reference_class;
+    j["loo_scores"] = c.loo_scores;
+  } else {
+    j["loo_scores"] = c.loo_scores.front();
+  }
+  return j;
 }
 
-NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features) {
+NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int n_classes, std::int64_t version) {
   if (!j.is_object()) invalid("payload.novelty is not an object");
-  refuse_unknown_keys(j, {"k", "quantile", "reference", "loo_scores"}, "payload.novelty");
   NoveltyCalibration c;
+  c.per_class = version >= 4;
+  if (c.per_class)
+    refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores"}, "payload.novelty");
+  else
+    refuse_unknown_keys(j, {"k", "quantile", "reference", "loo_scores"}, "payload.novelty");
   c.k = static_cast<int>(integer(j, "k", "novelty"));
   c.quantile = num(j, "quantile", "novelty");
   c.reference = matrix(field(j, "reference", "novelty"), n_features, "novelty.reference");
-  c.loo_scores = numbers(field(j, "loo_scores", "novelty"), "novelty.loo_scores");
-  validate_novelty(c, n_features);
+  if (c.per_class) {
+    c.reference_class = ints(field(j, "reference_classes", "novelty"), "novelty.reference_classes");
+    const json& lists = field(j, "loo_scores", "novelty");
+    if (!lists.is_array()) invalid("novelty.loo_scores is not an array (one list per class)");
+    for (const auto& l : lists) c.loo_scores.push_back(numbers(l, "novelty.loo_scores[]"));
+  } else {
+    c.reference_class.assign(static_cast<std::size_t>(c.reference.rows()), 0);
+    c.loo_scores.push_back(numbers(field(j, "loo_scores", "novelty"), "novelty.loo_scores"));
+  }
+  validate_novelty(c, n_features, n_classes);
   return c;
 }
 
@@ -314,7 +338,7 @@ json payload_without_novelty(const ClassifierModel::State& s) {
             {"class_spectra", class_spectra_to_json(t.class_spectra)}}}};
 }
 
-std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
+std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p, std::int64_t format_version) {
   if (!p.is_object()) invalid("payload is not an object");
   refuse_unknown_keys(p, {"name", "version", "classes", "recipe", "scaler", "svm", "training", "novelty"}, "payload");
   // SVM first: the State owns it by value.
@@ -379,15 +403,17 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p) {
   s->summary.nested_cv_std = num(t, "nested_cv_std", "training");
   s->summary.notes = str(t, "notes", "training");
   s->summary.class_spectra = class_spectra_from_json(t);
-  if (p.contains("novelty")) s->novelty = novelty_from_json(p.at("novelty"), svm_features);
+  if (p.contains("novelty"))
+    s->novelty = novelty_from_json(p.at("novelty"), svm_features, s->svm.data().n_classes, format_version);
   return s;
 }
 
 json document_of(const ClassifierModel::State& s) {
   json payload = payload_of(s);
   const std::string seal = Sha256::hex(payload.dump());
-  // Version 3 only when the file has what version 3 added (payload.novelty): older readers refuse it then.
-  const int version = s.novelty ? ClassifierModel::kFormatVersion : 2;
+  // The oldest version that holds what the file has (3: the one-set novelty block, 4: the per-class one), so
+  // readers of older versions refuse it by number and a model without novelty stays readable by version 2.
+  const int version = !s.novelty ? 2 : s.novelty->per_class ? 4 : 3;
   return {{"format", kFormatName}, {"format_version", version}, {"payload", std::move(payload)},
           {"payload_sha256", seal}};
 }
@@ -495,7 +521,7 @@ ClassifierModel ClassifierModel::from_json_text(const std::string& text) {
             "..., computed " + actual.substr(0, 16) + "...)");
   try {
     // The seal covers the payload as stored; a migrated model is re-sealed over its new payload by finalize_state.
-    return ClassifierModel(finalize_state(state_from_payload(version == 1 ? migrate_v1_payload(payload) : payload)));
+    return ClassifierModel(finalize_state(state_from_payload(version == 1 ? migrate_v1_payload(payload) : payload, version)));
   } catch (const InvalidInputError& e) {
     if (e.code() == "model_invalid" || e.code() == "model_version") throw;
     invalid(e.what());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/common/errors.hpp"
@@ -17,64 +18,154 @@ double mean_of_smallest(std::vector<double>& d, int k) {
   return sum / k;
 }
 
-}  // namespace
+int group_count(const NoveltyCalibration& c) { return static_cast<int>(c.loo_scores.size()); }
 
-NoveltyCalibration calibrate_novelty(const Eigen::MatrixXd& Xs, int k, double quantile) {
-  const Eigen::Index n = Xs.rows();
-  if (n < 2) throw InvalidInputError("training_data", "novelty calibration needs at least 2 training samples");
-  NoveltyCalibration c;
-  c.k = std::max(1, std::min<int>(k, static_cast<int>(n) - 1));
-  c.reference = Xs;
-  c.quantile = quantile;
-  std::vector<double> d;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    d.clear();
-    for (Eigen::Index j = 0; j < n; ++j)
-      if (j != i) d.push_back((Xs.row(i) - Xs.row(j)).norm());
-    c.loo_scores.push_back(mean_of_smallest(d, c.k));
-  }
-  std::sort(c.loo_scores.begin(), c.loo_scores.end());
-  return c;
+std::vector<Eigen::Index> rows_of_group(const NoveltyCalibration& c, int g) {
+  std::vector<Eigen::Index> rows;
+  for (std::size_t i = 0; i < c.reference_class.size(); ++i)
+    if (c.reference_class[i] == g) rows.push_back(static_cast<Eigen::Index>(i));
+  return rows;
 }
 
-double novelty_threshold(const NoveltyCalibration& c, double quantile) {
+// k of a group of n rows: the calibration's k, at most n - 1 (a leave-one-out score needs k other members); a group
+// of one row uses its one row.
+int group_k(const NoveltyCalibration& c, std::size_t n) {
+  return std::max(1, std::min(c.k, static_cast<int>(n) - 1));
+}
+
+void check_quantile(double quantile) {
   if (!(quantile > 0 && quantile < 1))
     throw InvalidInputError("invalid_parameter", "the novelty quantile must be between 0 and 1 (exclusive), got " +
                                                      std::to_string(quantile));
-  const auto& s = c.loo_scores;
+}
+
+double quantile_of(const std::vector<double>& s, double quantile) {
   const double pos = quantile * static_cast<double>(s.size() - 1);
   const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
   const std::size_t hi = std::min(lo + 1, s.size() - 1);
   return s[lo] + (pos - static_cast<double>(lo)) * (s[hi] - s[lo]);
 }
 
-NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<const Eigen::VectorXd>& x, double quantile) {
-  NoveltyAssessment a;
-  a.quantile = quantile > 0 ? quantile : c.quantile;
-  std::vector<double> d(static_cast<std::size_t>(c.reference.rows()));
-  for (Eigen::Index j = 0; j < c.reference.rows(); ++j)
-    d[static_cast<std::size_t>(j)] = (c.reference.row(j).transpose() - x).norm();
-  a.score = mean_of_smallest(d, c.k);
-  const auto at_least = c.loo_scores.end() - std::lower_bound(c.loo_scores.begin(), c.loo_scores.end(), a.score);
-  a.p_value = (1.0 + static_cast<double>(at_least)) / (static_cast<double>(c.loo_scores.size()) + 1.0);
-  a.threshold = novelty_threshold(c, a.quantile);
-  a.novel = a.score > a.threshold;
-  return a;
+NoveltyCalibration calibrate_groups(const Eigen::MatrixXd& Xs, std::vector<int> groups, int n_groups, int k,
+                                    double quantile, bool per_class) {
+  if (Xs.rows() < 2) throw InvalidInputError("training_data", "novelty calibration needs at least 2 training samples");
+  NoveltyCalibration c;
+  c.per_class = per_class;
+  c.k = std::max(1, k);
+  c.quantile = quantile;
+  c.reference = Xs;
+  c.reference_class = std::move(groups);
+  c.loo_scores.resize(static_cast<std::size_t>(n_groups));
+  std::vector<double> d;
+  for (int g = 0; g < n_groups; ++g) {
+    const auto rows = rows_of_group(c, g);
+    if (rows.size() < 2) continue;  // one sample: no leave-one-out score (novelty_threshold borrows)
+    const int kg = group_k(c, rows.size());
+    for (Eigen::Index i : rows) {
+      d.clear();
+      for (Eigen::Index j : rows)
+        if (j != i) d.push_back((Xs.row(i) - Xs.row(j)).norm());
+      c.loo_scores[static_cast<std::size_t>(g)].push_back(mean_of_smallest(d, kg));
+    }
+    std::sort(c.loo_scores[static_cast<std::size_t>(g)].begin(), c.loo_scores[static_cast<std::size_t>(g)].end());
+  }
+  return c;
 }
 
-void validate_novelty(const NoveltyCalibration& c, Eigen::Index n_features) {
+}  // namespace
+
+NoveltyCalibration calibrate_novelty(const Eigen::MatrixXd& Xs, const std::vector<int>& y, int k, double quantile) {
+  if (static_cast<Eigen::Index>(y.size()) != Xs.rows())
+    throw InvalidInputError("training_data", "novelty calibration: " + std::to_string(y.size()) + " labels for " +
+                                                 std::to_string(Xs.rows()) + " samples");
+  const int n_groups = y.empty() ? 0 : *std::max_element(y.begin(), y.end()) + 1;
+  return calibrate_groups(Xs, y, n_groups, k, quantile, true);
+}
+
+NoveltyCalibration calibrate_novelty_one_set(const Eigen::MatrixXd& Xs, int k, double quantile) {
+  // The format-3 figure stored k already capped at n - 1.
+  return calibrate_groups(Xs, std::vector<int>(static_cast<std::size_t>(Xs.rows()), 0), 1,
+                          std::max(1, std::min<int>(k, static_cast<int>(Xs.rows()) - 1)), quantile, false);
+}
+
+double novelty_threshold(const NoveltyCalibration& c, double quantile, int group) {
+  check_quantile(quantile);
+  const auto& s = c.loo_scores.at(static_cast<std::size_t>(group));
+  if (!s.empty()) return quantile_of(s, quantile);
+  // A class of one training sample has no spread of its own: it takes the widest class's threshold.
+  double widest = 0;
+  for (const auto& other : c.loo_scores)
+    if (!other.empty()) widest = std::max(widest, quantile_of(other, quantile));
+  return widest;
+}
+
+NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<const Eigen::VectorXd>& x, double quantile) {
+  NoveltyAssessment best;
+  best.quantile = quantile > 0 ? quantile : c.quantile;
+  check_quantile(best.quantile);
+  double best_ratio = std::numeric_limits<double>::infinity();
+  bool first = true;
+  std::vector<double> d;
+  for (int g = 0; g < group_count(c); ++g) {
+    const auto rows = rows_of_group(c, g);
+    if (rows.empty()) continue;
+    d.clear();
+    for (Eigen::Index j : rows) d.push_back((c.reference.row(j).transpose() - x).norm());
+    NoveltyAssessment a;
+    a.quantile = best.quantile;
+    a.group = g;
+    a.score = mean_of_smallest(d, group_k(c, rows.size()));
+    const auto& s = c.loo_scores[static_cast<std::size_t>(g)];
+    const auto at_least = s.end() - std::lower_bound(s.begin(), s.end(), a.score);
+    a.p_value = (1.0 + static_cast<double>(at_least)) / (static_cast<double>(s.size()) + 1.0);
+    a.threshold = novelty_threshold(c, a.quantile, g);
+    a.novel = a.score > a.threshold;
+    // Relative to the class's own spread; a zero threshold (identical training members) puts any distance at
+    // infinity and a zero distance at 0.
+    const double ratio = a.threshold > 0 ? a.score / a.threshold
+                                         : (a.score > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    if (first || ratio < best_ratio || (ratio == best_ratio && a.p_value > best.p_value)) {
+      best = a;
+      best_ratio = ratio;
+      first = false;
+    }
+  }
+  return best;  // novel iff the most alike class's score is above its threshold, i.e. above every class's
+}
+
+void validate_novelty(const NoveltyCalibration& c, Eigen::Index n_features, int n_classes) {
   auto bad = [](const std::string& m) { throw InvalidInputError("model_invalid", "invalid model file: novelty: " + m); };
   const Eigen::Index n = c.reference.rows();
   if (n < 2) bad("needs at least 2 reference samples");
   if (c.reference.cols() != n_features)
     bad("reference samples have " + std::to_string(c.reference.cols()) + " features, the model " + std::to_string(n_features));
-  if (static_cast<Eigen::Index>(c.loo_scores.size()) != n)
-    bad(std::to_string(c.loo_scores.size()) + " leave-one-out scores for " + std::to_string(n) + " reference samples");
-  if (c.k < 1 || c.k >= n) bad("k = " + std::to_string(c.k) + " must be in 1.." + std::to_string(n - 1));
+  if (static_cast<Eigen::Index>(c.reference_class.size()) != n)
+    bad(std::to_string(c.reference_class.size()) + " reference classes for " + std::to_string(n) + " reference samples");
+  const int groups = c.per_class ? n_classes : 1;
+  if (static_cast<int>(c.loo_scores.size()) != groups)
+    bad(std::to_string(c.loo_scores.size()) + " lists of leave-one-out scores for " + std::to_string(groups) +
+        (c.per_class ? " classes" : " reference set"));
+  if (c.k < 1 || (!c.per_class && c.k >= n)) bad("k = " + std::to_string(c.k) + " must be in 1.." + std::to_string(n - 1));
   if (!(c.quantile > 0 && c.quantile < 1)) bad("quantile must be between 0 and 1");
-  if (!c.reference.allFinite() || !std::all_of(c.loo_scores.begin(), c.loo_scores.end(), [](double v) { return std::isfinite(v) && v >= 0; }))
-    bad("non-finite or negative numbers");
-  if (!std::is_sorted(c.loo_scores.begin(), c.loo_scores.end())) bad("leave-one-out scores are not ascending");
+  std::vector<std::size_t> members(static_cast<std::size_t>(groups), 0);
+  for (int g : c.reference_class) {
+    if (g < 0 || g >= groups) bad("reference class " + std::to_string(g) + " is not one of the model's " + std::to_string(groups));
+    ++members[static_cast<std::size_t>(g)];
+  }
+  bool any_scores = false;
+  for (int g = 0; g < groups; ++g) {
+    const auto& s = c.loo_scores[static_cast<std::size_t>(g)];
+    const std::size_t expected = members[static_cast<std::size_t>(g)] >= 2 ? members[static_cast<std::size_t>(g)] : 0;
+    if (s.size() != expected)
+      bad(std::to_string(s.size()) + " leave-one-out scores for class " + std::to_string(g) + " of " +
+          std::to_string(members[static_cast<std::size_t>(g)]) + " reference samples");
+    if (!std::all_of(s.begin(), s.end(), [](double v) { return std::isfinite(v) && v >= 0; }))
+      bad("non-finite or negative leave-one-out scores");
+    if (!std::is_sorted(s.begin(), s.end())) bad("leave-one-out scores are not ascending");
+    any_scores = any_scores || !s.empty();
+  }
+  if (!any_scores) bad("no class has 2 reference samples");
+  if (!c.reference.allFinite()) bad("non-finite reference samples");
 }
 
 }  // namespace wish

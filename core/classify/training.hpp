@@ -37,7 +37,7 @@ struct TrainOptions {
   int nested_inner_splits = 5;
   bool refit_on_all = false;       // false: the shipped model is the one measured on the test split
   bool novelty = true;             // calibrate the novelty figure (novelty.hpp) on the final fit's samples
-  int novelty_k = 5;
+  int novelty_k = 3;               // per class; 3 flagged more left-out members than 5 at the same false-flag rate (docs/benchmarks.md)
   double novelty_quantile = 0.99;  // the model's default threshold quantile
   std::uint64_t seed = 42;
   // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
@@ -77,7 +77,8 @@ struct TrainingReport {
   std::vector<std::string> test_true, test_predicted;
   std::vector<double> test_novelty;              // per test sample, its novelty score (empty without calibration)
   std::vector<bool> test_novel;                  // flagged at the model's quantile
-  double novelty_threshold = 0;                  // at the model's quantile; 0 without calibration
+  std::vector<double> novelty_class_thresholds;  // per class (model order), at the model's quantile; empty without calibration
+  double novelty_threshold = 0;                  // the largest of them; 0 without calibration
   double novelty_quantile = 0;
 };
 

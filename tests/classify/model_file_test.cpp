@@ -270,14 +270,15 @@ TEST(ModelFile, BundledDefaultModelIsAsThisBuildWritesIt) {
   EXPECT_EQ(recipe_version_of(model.recipe()), 3);
 }
 
-// The novelty block (format 3, issue 25): written with the version that introduced it, so a version-2 reader
-// refuses the file; optional on read (a file without it loads and predicts without a novelty figure); a block in
-// a file that claims version 2 is refused; an inconsistent block is refused with its path.
-TEST(ModelFile, NoveltyBlockIsVersion3OptionalAndChecked) {
+// The novelty block (issue 25; per class since format 4): written with the version that introduced it, so an older
+// reader refuses the file; optional on read (a file without it loads and predicts without a novelty figure); a
+// block in a file that claims an older version is refused; an inconsistent block is refused with its path.
+TEST(ModelFile, NoveltyBlockIsVersion4OptionalAndChecked) {
   const auto doc = nlohmann::json::parse(trained().to_json_text());
   ASSERT_TRUE(trained().has_novelty());
-  EXPECT_EQ(doc["format_version"], 3);
+  EXPECT_EQ(doc["format_version"], 4);
   ASSERT_TRUE(doc["payload"].contains("novelty"));
+  ASSERT_TRUE(doc["payload"]["novelty"].contains("reference_classes"));
   const auto sample = testing::synthetic_samples(3, 1, 5).front().features;
   {
     const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
@@ -285,6 +286,7 @@ TEST(ModelFile, NoveltyBlockIsVersion3OptionalAndChecked) {
     ASSERT_TRUE(a.novelty && b.novelty);
     EXPECT_EQ(a.novelty->score, b.novelty->score);
     EXPECT_EQ(a.novelty->p_value, b.novelty->p_value);
+    EXPECT_EQ(a.novelty->threshold, b.novelty->threshold);
   }
   {
     auto d = doc;
@@ -302,8 +304,19 @@ TEST(ModelFile, NoveltyBlockIsVersion3OptionalAndChecked) {
     expect_refused(reseal(d), "model_invalid", "needs format_version 3");
   }
   {
+    // A format-3 reader knows no reference_classes: the per-class block in a file that says 3 is refused by it.
     auto d = doc;
-    d["payload"]["novelty"]["loo_scores"].erase(0);
+    d["format_version"] = 3;
+    expect_refused(reseal(d), "model_version", "payload.novelty.reference_classes");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["reference_classes"][0] = 7;
+    expect_refused(reseal(d), "model_invalid", "reference class 7");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["loo_scores"][0].erase(0);
     expect_refused(reseal(d), "model_invalid", "leave-one-out scores");
   }
   {
@@ -318,10 +331,49 @@ TEST(ModelFile, NoveltyBlockIsVersion3OptionalAndChecked) {
   }
 }
 
+std::filesystem::path fixture_dir() { return testing::project_data_dir().parent_path() / "tests" / "classify" / "data"; }
+
+// A model file of format version 3 (main df31c18's `wish train` on half the demo descriptors without the neurons,
+// committed as a fixture) keeps its one-set novelty figure: it loads and computes the scores, p-values, flags and
+// labels that build computed (tests/classify/data/model_format_v3_predictions.csv, columns *_v3), and is saved
+// again as format 3.
+TEST(ModelFileMigration, FormatVersion3KeepsItsOneSetNoveltyFigure) {
+  const auto path = fixture_dir() / "model_format_v3.json";
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  const ClassifierModel model = ClassifierModel::load(path);
+  ASSERT_TRUE(model.has_novelty());
+  EXPECT_FALSE(model.novelty_calibration()->per_class);
+  std::ifstream csv_in(fixture_dir() / "model_format_v3_predictions.csv");
+  std::stringstream text;
+  text << csv_in.rdbuf();
+  const auto rows = parse_csv(text.str());
+  const auto table = read_descriptor_table(text.str());
+  ASSERT_EQ(table.samples.size(), 15u);
+  auto column = [&](const std::string& name) {
+    const auto c = std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin();
+    EXPECT_LT(c, static_cast<long>(rows[0].size())) << name;
+    return static_cast<std::size_t>(c);
+  };
+  const std::size_t label = column("predicted_v3"), novel = column("novel_v3"), score = column("novelty_score_v3"),
+                    p_value = column("novelty_p_value_v3");
+  int flagged = 0;
+  for (std::size_t i = 0; i < table.samples.size(); ++i) {
+    const auto& row = rows[i + 1];
+    const Prediction p = model.predict(table.samples[i].features);
+    ASSERT_TRUE(p.novelty);
+    EXPECT_EQ(p.label, row[label]) << table.samples[i].id;
+    EXPECT_EQ(p.novelty->novel, row[novel] == "true") << table.samples[i].id;
+    EXPECT_NEAR(p.novelty->score, std::stod(row[score]), 1e-8 * std::stod(row[score])) << table.samples[i].id;
+    EXPECT_DOUBLE_EQ(p.novelty->p_value, std::stod(row[p_value])) << table.samples[i].id;
+    flagged += p.novelty->novel;
+  }
+  EXPECT_EQ(flagged, 4);  // four of the five neurons, none of the known classes' members (as written)
+  EXPECT_EQ(nlohmann::json::parse(model.to_json_text())["format_version"], 3);
+}
+
 // A model file of format version 1 (the bundled default model as main cfdc7a1 wrote it, committed as a fixture)
 // loads through the migration and predicts what version-1 code predicted: the labels of its training report's
 // hold-out split (tests/classify/data/model_format_v1_predictions.csv, column predicted_v1).
-std::filesystem::path fixture_dir() { return testing::project_data_dir().parent_path() / "tests" / "classify" / "data"; }
 
 TEST(ModelFileMigration, FormatVersion1LoadsAndPredictsTheSame) {
   const auto v1_path = fixture_dir() / "model_format_v1.json";

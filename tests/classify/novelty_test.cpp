@@ -23,16 +23,16 @@ Eigen::MatrixXd line_points(int n) {  // 0, 1, ..., n-1 on a line in 1-D
   return X;
 }
 
-TEST(Novelty, LeaveOneOutScoresAndPValuesByHand) {
-  // k = 1: every point's nearest other point is 1 away.
-  const NoveltyCalibration c1 = calibrate_novelty(line_points(10), 1);
-  EXPECT_EQ(c1.loo_scores, std::vector<double>(10, 1.0));
+TEST(Novelty, OneSetLeaveOneOutScoresAndPValuesByHand) {
+  // The format-3 figure (one reference set). k = 1: every point's nearest other point is 1 away.
+  const NoveltyCalibration c1 = calibrate_novelty_one_set(line_points(10), 1);
+  EXPECT_EQ(c1.loo_scores.front(), std::vector<double>(10, 1.0));
   // k = 2: the two end points have neighbours at 1 and 2 (mean 1.5), the inner ones at 1 and 1.
-  const NoveltyCalibration c2 = calibrate_novelty(line_points(10), 2);
+  const NoveltyCalibration c2 = calibrate_novelty_one_set(line_points(10), 2);
   std::vector<double> expected(8, 1.0);
   expected.push_back(1.5);
   expected.push_back(1.5);
-  EXPECT_EQ(c2.loo_scores, expected);
+  EXPECT_EQ(c2.loo_scores.front(), expected);
   EXPECT_DOUBLE_EQ(novelty_threshold(c2, 0.5), 1.0);
   EXPECT_DOUBLE_EQ(novelty_threshold(c2, 7.5 / 9), 1.25);  // position 7.5: halfway between the last 1 and 1.5
 
@@ -49,10 +49,70 @@ TEST(Novelty, LeaveOneOutScoresAndPValuesByHand) {
   EXPECT_DOUBLE_EQ(far.quantile, 0.5);
   EXPECT_TRUE(far.novel);
   // k is capped at n - 1; fewer than 2 samples and quantiles outside (0, 1) are refused.
-  EXPECT_EQ(calibrate_novelty(line_points(3), 5).k, 2);
-  EXPECT_THROW((void)calibrate_novelty(line_points(1)), InvalidInputError);
+  EXPECT_EQ(calibrate_novelty_one_set(line_points(3), 5).k, 2);
+  EXPECT_THROW((void)calibrate_novelty_one_set(line_points(1)), InvalidInputError);
   EXPECT_THROW((void)novelty_threshold(c1, 1.0), InvalidInputError);
   EXPECT_THROW((void)novelty_threshold(c1, 0.0), InvalidInputError);
+}
+
+// Two known classes on a line: a wide one (0, 10, ..., 100: neighbours 10 apart) and a tight one (1000, 1000.1,
+// ..., 1001: 0.1 apart). k = 1, quantile 0.5: the wide class's threshold is 10, the tight one's 0.1.
+struct TwoSpreads {
+  Eigen::MatrixXd X{22, 1};
+  std::vector<int> y;
+  TwoSpreads() {
+    for (int i = 0; i < 11; ++i) {
+      X(i, 0) = 10.0 * i;
+      X(11 + i, 0) = 1000 + 0.1 * i;
+      y.push_back(0);
+    }
+    for (int i = 0; i < 11; ++i) y.push_back(1);
+  }
+};
+
+TEST(Novelty, PerClassScoresThresholdsAndTheFlagByHand) {
+  const TwoSpreads t;
+  const NoveltyCalibration c = calibrate_novelty(t.X, t.y, 1, 0.5);
+  ASSERT_EQ(c.loo_scores.size(), 2u);
+  for (double v : c.loo_scores[0]) EXPECT_NEAR(v, 10.0, 1e-9);
+  for (double v : c.loo_scores[1]) EXPECT_NEAR(v, 0.1, 1e-9);
+  EXPECT_NEAR(novelty_threshold(c, 0.5, 0), 10.0, 1e-9);
+  EXPECT_NEAR(novelty_threshold(c, 0.5, 1), 0.1, 1e-9);
+
+  // 3 beyond the tight class: 30 of its own spacings from it, 900 from the wide class: novel. Reported: the tight
+  // class (score 3 / threshold 0.1 = 30 is smaller than 900 / 10 = 90), p = 1 / 12 (above all 11 of its scores).
+  const NoveltyAssessment near_tight = assess_novelty(c, Eigen::VectorXd::Constant(1, 1004.0));
+  EXPECT_TRUE(near_tight.novel);
+  EXPECT_EQ(near_tight.group, 1);
+  EXPECT_NEAR(near_tight.score, 3.0, 1e-9);
+  EXPECT_NEAR(near_tight.threshold, 0.1, 1e-9);
+  EXPECT_DOUBLE_EQ(near_tight.p_value, 1.0 / 12);
+  // The one-set figure cannot say it: its 0.9 quantile of the pooled leave-one-out scores (eleven 0.1, eleven 10)
+  // is the wide class's 10, above the distance 3.
+  const NoveltyCalibration one_set = calibrate_novelty_one_set(t.X, 1, 0.9);
+  EXPECT_FALSE(assess_novelty(one_set, Eigen::VectorXd::Constant(1, 1004.0)).novel);
+
+  // 3 from a wide-class point (between two of its members): within its spread, not novel, p = 1.
+  const NoveltyAssessment in_wide = assess_novelty(c, Eigen::VectorXd::Constant(1, 53.0));
+  EXPECT_FALSE(in_wide.novel);
+  EXPECT_EQ(in_wide.group, 0);
+  EXPECT_DOUBLE_EQ(in_wide.p_value, 1.0);
+  // Halfway between the classes: unlike both.
+  EXPECT_TRUE(assess_novelty(c, Eigen::VectorXd::Constant(1, 550.0)).novel);
+  // Within the tight class: not novel.
+  EXPECT_FALSE(assess_novelty(c, Eigen::VectorXd::Constant(1, 1000.55)).novel);
+
+  // A class of one sample has no leave-one-out score and takes the widest class's threshold.
+  Eigen::MatrixXd X3(23, 1);
+  X3 << t.X, Eigen::MatrixXd::Constant(1, 1, -500.0);
+  std::vector<int> y3 = t.y;
+  y3.push_back(2);
+  const NoveltyCalibration c3 = calibrate_novelty(X3, y3, 1, 0.5);
+  EXPECT_TRUE(c3.loo_scores[2].empty());
+  EXPECT_NEAR(novelty_threshold(c3, 0.5, 2), 10.0, 1e-9);
+  EXPECT_FALSE(assess_novelty(c3, Eigen::VectorXd::Constant(1, -495.0)).novel);
+  EXPECT_TRUE(assess_novelty(c3, Eigen::VectorXd::Constant(1, -480.0)).novel);
+  EXPECT_THROW((void)calibrate_novelty(t.X, std::vector<int>(3, 0)), InvalidInputError);
 }
 
 TEST(Novelty, TrainedModelsCarryItAndTheQuantileIsTheCallers) {
@@ -61,7 +121,8 @@ TEST(Novelty, TrainedModelsCarryItAndTheQuantileIsTheCallers) {
   const TrainingResult r = train_classifier(testing::synthetic_samples(3, 20, 8), opts);
   ASSERT_TRUE(r.model.has_novelty());
   const NoveltyCalibration& c = *r.model.novelty_calibration();
-  EXPECT_EQ(c.k, 5);
+  EXPECT_EQ(c.k, 3);
+  EXPECT_TRUE(c.per_class);
   EXPECT_EQ(c.quantile, 0.99);
   EXPECT_EQ(static_cast<std::size_t>(c.reference.rows()), r.report.train_indices.size());  // the SVM's own samples
   const ShapeFeatures f = testing::synthetic_samples(3, 1, 77).front().features;
