@@ -2,13 +2,15 @@
 // tests/synth/hard_shapes.hpp (coil, dumbbell, octopus, quadruped, mushroom_spine) as classes, N shapes each, every
 // one with its own parameters (turns and wire, neck, arm tips, legs), a mild anisotropic stretch, a random size and
 // a random rotation, written as class folders of binary PLY that `wish train` and bench/descriptor_accuracy_bench read:
-//   hard_shapes_labelled OUTDIR [--per-class N (15)] [--seed S (1)] [--vertices V (3000)]
+//   hard_shapes_labelled OUTDIR [--per-class N (15)] [--seed S (1)] [--vertices V (3000)] [--families a,b (all)]
+// --families makes only those classes and --from I only shapes I.. of each (the same shapes as in a full run), so
+// several processes can share the work.
 // Deterministic by seed: the parameters come from std::mt19937_64's raw output (its sequence is fixed by the standard;
 // the std:: distributions are not), seeded per (seed, class, index), so one shape does not depend on the others.
 // The pose is applied to the solid BEFORE it is voxelised, so two shapes of a family differ in their voxel staircase
 // as two segmentations of one object would, not only by a rigid motion of the same mesh (to which ξ is invariant by
 // construction). Each solid is first scaled to a bounding-box half-diagonal of 1, so size alone (then drawn the same
-// way for every class) does not tell the classes apart. OUTDIR/shapes.csv lists every shape's parameters.
+// way for every class) does not tell the classes apart. OUTDIR/<class>/shapes.csv lists every shape's parameters.
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -101,13 +103,15 @@ Solid posed(const Solid& in, const Eigen::Matrix3d& rotation, const Eigen::Vecto
 
 int main(int argc, char** argv) {
   if (argc < 2 || std::string(argv[1]).starts_with("-")) {
-    std::fprintf(stderr, "usage: %s OUTDIR [--per-class N] [--seed S] [--vertices V]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s OUTDIR [--per-class N] [--seed S] [--vertices V] [--families a,b] [--from I]\n", argv[0]);
     return 2;
   }
   const fs::path out = argv[1];
   int per_class = 15;
   std::uint64_t seed = 1;
   long vertices = 3000;
+  std::string only;  // comma-separated families; empty: all
+  int from = 0;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (i + 1 >= argc) {
@@ -118,6 +122,8 @@ int main(int argc, char** argv) {
     if (a == "--per-class") per_class = std::stoi(v);
     else if (a == "--seed") seed = std::stoull(v);
     else if (a == "--vertices") vertices = std::stol(v);
+    else if (a == "--families") only = "," + v + ",";
+    else if (a == "--from") from = std::stoi(v);
     else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
       return 2;
@@ -127,15 +133,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--per-class must be >= 1 and --vertices >= 100\n");
     return 2;
   }
-  fs::create_directories(out);
-  std::ofstream csv(out / "shapes.csv");
-  csv << "class,file,parameters,size,stretch_x,stretch_y,stretch_z,vertices,attempts,seconds\n";
   wish::testing::MeshingRecipe recipe = wish::testing::recipe_for(wish::testing::Tessellation::Fine);
   recipe.target_vertices = vertices;
   const std::vector<std::string> families{"coil", "dumbbell", "mushroom_spine", "octopus", "quadruped"};
   for (std::size_t f = 0; f < families.size(); ++f) {
+    // f stays the family's index in the full list: the seeds, so the shapes, do not depend on --families.
+    if (!only.empty() && only.find("," + families[f] + ",") == std::string::npos) continue;
     fs::create_directories(out / families[f]);
-    for (int i = 0; i < per_class; ++i) {
+    const fs::path list = out / families[f] / (from > 0 ? "shapes-from-" + std::to_string(from) + ".csv" : "shapes.csv");
+    std::ofstream csv(list);
+    csv << "class,file,parameters,size,stretch_x,stretch_y,stretch_z,vertices,attempts,seconds\n";
+    for (int i = from; i < per_class; ++i) {
       const auto t0 = std::chrono::steady_clock::now();
       // A draw whose mesh is not a closed genus-0 surface (a voxel bridge) is replaced by the next attempt's draw;
       // attempts are part of the seed, so the set stays deterministic.
