@@ -8,11 +8,13 @@
 #   bench/accuracy_table.sh [WORK=/work/acc-data]
 # env: BUILD (build/release), JOBS (2), SETS (demo raw_mc urocell hard), METHODS (cmcf,willmore,progressive),
 #      CORRECTIONS (none,dem), CAP_UROCELL (30), CAP_RAW_MC (30), HARD_PER_CLASS (15), RUN_SECONDS (1800, per set),
+#      FV_VOLUMES (2: the fusiform vesicles of the first 2 of 4 volumes, 256 of 715 objects; empty: all),
 #      WISH_SHARED_DATA (../shared/data)
 # Sets (class folders of meshes; made here when missing, deterministic):
 #   demo    `wish demo-data --per-class 12 --seed 1` (the bundled model's synthetic set, 6 classes)
 #   raw_mc  ../shared/data/urocell_raw_mc (raw marching-cubes organelles, 3 classes), at most CAP_RAW_MC per class
-#   urocell bench/make_urocell_meshes.sh (UroCell label volumes meshed by `wish mesh-labels`), at most CAP_UROCELL
+#   urocell bench/make_urocell_meshes.sh (UroCell label volumes meshed by `wish mesh-labels`; fv from FV_VOLUMES
+#           volumes), at most CAP_UROCELL
 #           per class
 #   hard    bench/hard_shapes_labelled --per-class HARD_PER_CLASS --seed 1 (5 generated families, random poses)
 # A per-class cap takes files evenly spaced over the sorted list (descriptor_accuracy_bench --max-per-class): a fixed
@@ -45,7 +47,7 @@ for set in $sets; do
       [[ -d "$dir" ]] || { echo "accuracy_table: no $dir, skipping raw_mc" >&2; continue; } ;;
     urocell)
       dir=$work/urocell-meshes; cap=${CAP_UROCELL:-30}
-      [[ -f "$dir/DONE" ]] || bench/make_urocell_meshes.sh "$dir" "$build/cli/wish" ;;
+      [[ -f "$dir/DONE" ]] || FV_VOLUMES=${FV_VOLUMES-2} bench/make_urocell_meshes.sh "$dir" "$build/cli/wish" ;;
     hard)
       dir=$work/hard-shapes
       [[ -f "$dir/DONE" ]] || { rm -rf "$dir"; "$build/bench/hard_shapes_labelled" "$dir" --per-class "${HARD_PER_CLASS:-15}" --seed 1 && touch "$dir/DONE"; } ;;
