@@ -5,7 +5,7 @@
 
 Reads WORK/<set>.out (descriptor_accuracy_bench's stdout: meshes listed, refused before mapping, mapped per method
 with the failure codes) and WORK/<set>.csv (nested-CV accuracy per feature family). Columns: meshes mapped by the
-row's method of those listed, what the rest lost to, xi alone / global / combined (mean +- std over the outer folds,
+row's method of those listed, what the rest lost to, the meshes kept per class, xi alone / global / combined (mean +- std over the outer folds,
 global on the same meshes as the row), and the issue's target: xi alone within 2 points of global or better
 ("xi ok"), combined above both ("comb ok"). A row the run's time bound cut off shows "-".
 """
@@ -16,9 +16,9 @@ from pathlib import Path
 
 
 def parse_out(path):
-    listed, refused, mapped, failures = 0, 0, {}, {}
+    listed, refused, mapped, failures, per_class = 0, 0, {}, {}, {}
     if not path.exists():
-        return listed, refused, mapped, failures
+        return listed, refused, mapped, failures, per_class
     for line in path.read_text().splitlines():
         m = re.match(r"=== dataset \S+ \(.*\): (\d+) meshes used", line)
         if m:
@@ -26,11 +26,15 @@ def parse_out(path):
         m = re.match(r"maps \(.*\): (\d+) meshes refused before mapping(.*)", line)
         if m:
             refused = int(m.group(1))
+        m = re.match(r"(\S+)\s+meshes per class:(.*?)( \(paired.*)?$", line)
+        if m:
+            per_class[m.group(1)] = m.group(2).strip()
+            continue
         m = re.match(r"(\S+)\s+(\d+)/(\d+)\s+[\d.]+\s+[\d.]+\s+[\d.]+\s+(.*)$", line)
         if m:
             mapped[m.group(1)] = int(m.group(2))
             failures[m.group(1)] = m.group(4).strip()
-    return listed, refused, mapped, failures
+    return listed, refused, mapped, failures, per_class
 
 
 def parse_csv(path):
@@ -50,10 +54,10 @@ def fmt(score):
 def main():
     work = Path(sys.argv[1])
     sets = sys.argv[2:] or ["demo", "raw_mc", "urocell", "hard"]
-    print("| set | map | mapped / listed | lost (check × count) | ξ alone | global | combined | ξ ≥ global − 2 | combined > both |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| set | map | mapped / listed | lost (check × count) | kept per class | ξ alone | global | combined | ξ ≥ global − 2 | combined > both |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for name in sets:
-        listed, refused, mapped, failures = parse_out(work / f"{name}.out")
+        listed, refused, mapped, failures, per_class = parse_out(work / f"{name}.out")
         scores = parse_csv(work / f"{name}.csv")
         for method in mapped:
             xi = scores.get((method, "invariants"))
@@ -64,7 +68,7 @@ def main():
                 lost = f"{lost}; refused before mapping × {refused}" if lost != "-" else f"refused before mapping × {refused}"
             xi_ok = "-" if xi is None or glob is None else ("yes" if xi[0] >= glob[0] - 2 else "no")
             comb_ok = "-" if None in (xi, glob, comb) else ("yes" if comb[0] > max(xi[0], glob[0]) else "no")
-            print(f"| {name} | {method} | {mapped[method]} / {listed} | {lost} | {fmt(xi)} | {fmt(glob)} | {fmt(comb)} | {xi_ok} | {comb_ok} |")
+            print(f"| {name} | {method} | {mapped[method]} / {listed} | {lost} | {per_class.get(method, '-')} | {fmt(xi)} | {fmt(glob)} | {fmt(comb)} | {xi_ok} | {comb_ok} |")
 
 
 if __name__ == "__main__":
