@@ -120,6 +120,7 @@ class ProgressiveMesh {
 // removing the endpoint of smaller degree. False when no edge passes the link condition above 4 vertices (not
 // expected for a closed genus-0 manifold).
 bool simplify_to_tetrahedron(ProgressiveMesh& mesh, const Eigen::MatrixX3d& x, std::vector<ProgressiveMesh::Collapse>& out) {
+  const auto key = [&](int a, int b) { return (x.row(a) - x.row(b)).norm(); };
   using Entry = std::tuple<double, int, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
   const auto push_edges_of_faces = [&] {
@@ -127,7 +128,7 @@ bool simplify_to_tetrahedron(ProgressiveMesh& mesh, const Eigen::MatrixX3d& x, s
       if (!mesh.face_alive(static_cast<int>(f))) continue;
       for (int k = 0; k < 3; ++k) {
         const int a = mesh.faces()(f, k), b = mesh.faces()(f, (k + 1) % 3);
-        if (a < b) queue.emplace((x.row(a) - x.row(b)).norm(), a, b);
+        if (a < b) queue.emplace(key(a, b), a, b);
       }
     }
   };
@@ -152,7 +153,7 @@ bool simplify_to_tetrahedron(ProgressiveMesh& mesh, const Eigen::MatrixX3d& x, s
     out.push_back(mesh.collapse(removed, kept));
     --alive;
     progress = true;
-    for (int w : mesh.neighbours(kept)) queue.emplace((x.row(kept) - x.row(w)).norm(), std::min(kept, w), std::max(kept, w));
+    for (int w : mesh.neighbours(kept)) queue.emplace(key(kept, w), std::min(kept, w), std::max(kept, w));
   }
   return true;
 }
@@ -200,7 +201,7 @@ class SphereEmbedding {
 
   // The stretch energy of v's faces with v at y (see the class comment); +inf when a face is not positively
   // oriented or its height is below min_height (a move there is never taken).
-  double star_energy(int v, const Eigen::Vector3d& y) const {
+  double star_energy(int v, const Eigen::Vector3d& y, double floor) const {
     double e = 0;
     for (int f : mesh_.faces_of(v)) {
       Eigen::Vector3d p[3];
@@ -209,7 +210,7 @@ class SphereEmbedding {
       const double twice_area = n.norm();
       if (!(n.dot(p[0] + p[1] + p[2]) > 0)) return std::numeric_limits<double>::infinity();
       const double longest = std::max({(p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm()});
-      if (twice_area < min_height_ * std::sqrt(longest)) return std::numeric_limits<double>::infinity();
+      if (twice_area < floor * std::sqrt(longest)) return std::numeric_limits<double>::infinity();
       const int a = mesh_.faces()(f, 0), b = mesh_.faces()(f, 1), c = mesh_.faces()(f, 2);
       const Eigen::Vector3d xa = x_.row(a).transpose(), xb = x_.row(b).transpose(), xc = x_.row(c).transpose();
       const double surface_area = std::max(0.5 * (xb - xa).cross(xc - xa).norm(), area_floor_);
@@ -227,7 +228,10 @@ class SphereEmbedding {
   // position keeps all of v's faces positively oriented with height ≥ min_height). Returns the energy decrease.
   double optimise(int v) {
     const Eigen::Vector3d x = u_.row(v).transpose();
-    const double e0 = star_energy(v, x);
+    // The height floor of a move: min_height, or the star's present smallest height if a placement had to go
+    // below it (a move may then not make it worse; it lets such a neighbourhood heal).
+    const double floor = std::min(min_height_, std::max(0.0, star_score(v, x)));
+    const double e0 = star_energy(v, x, floor);
     if (!std::isfinite(e0)) return 0;  // (not expected: every accepted state is valid)
     double reach = std::numeric_limits<double>::infinity();
     for (int f : mesh_.faces_of(v))
@@ -238,7 +242,7 @@ class SphereEmbedding {
     const Eigen::Vector3d e1 = helper.cross(x).normalized(), e2 = x.cross(e1);
     // The difference step shrinks until all four probes stay valid (a vertex next to the barrier — the one whose
     // nearly degenerate face most needs the move — would otherwise never move).
-    const auto at = [&](const Eigen::Vector3d& d) { return star_energy(v, (x + d).normalized()); };
+    const auto at = [&](const Eigen::Vector3d& d) { return star_energy(v, (x + d).normalized(), floor); };
     double g1 = 0, g2 = 0;
     bool finite = false;
     for (double h = 1e-3 * reach; h > 1e-9 * reach && !finite; h *= 0.1) {
@@ -250,7 +254,7 @@ class SphereEmbedding {
     const Eigen::Vector3d direction = -(g1 * e1 + g2 * e2).normalized();
     for (double t = 0.5 * reach; t > 1e-6 * reach; t *= 0.5) {
       const Eigen::Vector3d y = (x + t * direction).normalized();
-      const double e = star_energy(v, y);
+      const double e = star_energy(v, y, floor);
       if (e < e0) {
         u_.row(v) = y.transpose();
         return e0 - e;
@@ -313,11 +317,12 @@ class SphereEmbedding {
     return s.normalized();
   }
   void relax(int v) {
+    const double floor = std::min(min_height_, std::max(0.0, star_score(v, u_.row(v).transpose())));
     const Eigen::Vector3d x = u_.row(v).transpose(), target = neighbour_average(v);
     if (!target.allFinite()) return;
     for (double t = 1.0; t >= 0.125; t *= 0.5) {
       const Eigen::Vector3d y = ((1 - t) * x + t * target).normalized();
-      if (valid(v, y)) {
+      if (star_score(v, y) >= floor) {
         u_.row(v) = y.transpose();
         return;
       }
@@ -433,13 +438,15 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
     const int v = it->removed, u = it->kept;
     bool placed = sphere.place(v, u, options.min_height);
     // A kernel too thin for the height margin in double precision (a crowded neighbourhood of u): v is collapsed
-    // back, u's neighbourhood (2, 3, 4, 5 rings) is spread — each vertex to the centroid of its own kernel when that
-    // opens its thinnest face, then a stretch descent move — and the split is tried again. The last try accepts a
-    // tenth of the height margin (still 10× the verification's degenerate_height).
-    for (int retry = 0; retry < 4 && !placed; ++retry) {
+    // back, u's neighbourhood (2, 3, 4, 5, 5 rings) is spread — each vertex to the centroid of its own kernel when
+    // that opens its thinnest face, then a stretch descent move — and the split is tried again. The last two tries
+    // accept 1/10 and 3/100 of the height margin (still 10× and 3× the verification's degenerate_height); the moves
+    // that follow never lower a star's smallest height below the margin or its present value.
+    constexpr double kRetryHeight[] = {1, 1, 1, 0.1, 0.03};  // of min_height; 0.03e-12 is 3× degenerate_height
+    for (int retry = 0; retry < 5 && !placed; ++retry) {
       const ProgressiveMesh::Collapse again = mesh.collapse(v, u);
       std::vector<int> ring = {u};
-      for (int r = 0; r < retry + 2; ++r)
+      for (int r = 0; r < std::min(retry, 3) + 2; ++r)
         for (int w : std::vector<int>(ring))
           for (int x : mesh.neighbours(w)) ring.push_back(x);
       std::sort(ring.begin(), ring.end());
@@ -451,7 +458,7 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
         }
       ++out.spread_neighbourhoods;
       mesh.split(again);
-      placed = sphere.place(v, u, retry == 3 ? 0.1 * options.min_height : options.min_height);
+      placed = sphere.place(v, u, kRetryHeight[retry] * options.min_height);
     }
     if (!placed) {
       out.failure = "no kernel point for vertex " + std::to_string(v) + " in double precision at " +

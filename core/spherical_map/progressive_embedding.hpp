@@ -23,7 +23,8 @@
 //     close to their surface share instead of the exponential compression of conformal or uniform-Tutte maps.
 //     Every move is a line search step taken only when all faces of the moved vertex stay positively oriented
 //     with height at least min_height.
-// Every accepted state is a map with every chord triangle positively oriented and no height below min_height;
+// Every accepted state is a map with every chord triangle positively oriented and no height below min_height (or,
+// after a placement that needed the last retries, 3 % of it: still 3× the verification's degenerate_height);
 // the chain verifies the result as for every method, without its Möbius balancing by input areas
 // (FlowResult::keep_normalisation: the stretch minimum is not Möbius-invariant, balancing would only raise it).
 // Cost O(V log V) for the simplification plus the sweeps (linear in V per sweep; the level sweeps sum to a
