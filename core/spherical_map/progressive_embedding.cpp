@@ -270,9 +270,9 @@ class SphereEmbedding {
   // per face of v's star (Sutherland & Hodgman 1974), and v goes to the clipped polygon's centroid, strictly inside
   // it whenever the polygon has area. The kernel is never empty in exact arithmetic (Praun & Hoppe's argument: the
   // sector that v's faces took from u's star reaches p, and every other link edge (a, b) of v bounded the valid
-  // face (u, a, b)), so a centroid that misses the height margin means a kernel too thin for double precision:
-  // the caller then spreads the neighbourhood and tries again. The position is then lowered on the stretch
-  // energy, with u, within the same validity test.
+  // face (u, a, b)), so a centroid whose smallest face height is below `min_height` means a kernel too thin for
+  // double precision: false, and the caller spreads the neighbourhood and tries again. Then u and v each move to
+  // the centroid of their own kernel when that opens their thinnest face, and down the stretch energy.
   bool place(int v, int u, double min_height) {
     const std::optional<Eigen::Vector3d> y = kernel_centroid(v, u_.row(u).transpose());
     if (!y || !(star_score(v, *y) >= min_height)) return false;
