@@ -6,7 +6,8 @@
 // accepted by validation (closed genus-0 manifold), 0-flip rate and Ok rate of the accepted, map time median / p95
 // / max (wall-clock seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1) and the same in CPU
 // seconds of the mapping thread (what the flow budget counts; load-independent), the method each map ended on, the
-// verdicts, and the K p99 distribution (median / p90 / max over bijective maps). Refusal codes are counted below.
+// verdicts, and the K p99 and area distortion (exp mean |log area ratio|, map_verification.hpp) distributions
+// (median / p90 / max over bijective maps). Refusal codes are counted below.
 // A second table (the time bound of issue 11: the final answer within 3 CPU s per 10K vertices, scaled with
 // max(1, V/10K)): CPU s per 10K vertices median / p95 / max, meshes over 3 s per 10K, CPU median / max by the method
 // each map ended on, and how many maps a budget stopped (an attempt with stop time_budget, a repair the chain budget
@@ -33,7 +34,7 @@ namespace {
 struct Row {
   std::string name;
   int found = 0, accepted = 0, zero_flips = 0, ok = 0;
-  std::vector<double> seconds, cpu_seconds, k_p99;
+  std::vector<double> seconds, cpu_seconds, k_p99, area_distortion;
   std::vector<double> cpu_per_10k;                        // CPU s / max(1, V/10K)
   std::map<std::string, std::vector<double>> method_cpu;  // CPU s by the method the map ended on
   int budget_stops = 0;                                    // maps where the flow budget stopped or skipped an attempt
@@ -88,6 +89,7 @@ void map_one(const std::filesystem::path& path, const wish::SphericalMapOptions&
     x->zero_flips += r.quality.flipped_faces == 0;
     x->ok += r.ok();
     if (bijective) x->k_p99.push_back(r.quality.conformal_p99);
+    if (bijective) x->area_distortion.push_back(r.quality.area_distortion);
     x->cpu_per_10k.push_back(cpu / std::max(1.0, static_cast<double>(prepared.mesh.vertex_count()) / 1e4));
     x->method_cpu[wish::to_string(r.method_used)].push_back(cpu);
     bool budget_stop = !r.skipped_for_budget.empty();
@@ -138,12 +140,13 @@ void print(const Row& r) {
   const double n = std::max(1, r.accepted);
   const auto max_of = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
   std::printf("| %-28s | %5d | %5d | %6.1f %% | %6.1f %% | %5.2f / %5.2f / %6.2f | %5.2f / %5.2f / %6.2f | %-30s | %-36s "
-              "| %6.2f / %6.2f / %8.2f |\n",
+              "| %6.2f / %6.2f / %8.2f | %6.2f / %6.2f / %8.2f |\n",
               r.name.c_str(), r.found, r.accepted, 100.0 * r.zero_flips / n, 100.0 * r.ok / n, quantile(r.seconds, 0.5),
               quantile(r.seconds, 0.95), max_of(r.seconds), quantile(r.cpu_seconds, 0.5), quantile(r.cpu_seconds, 0.95),
               max_of(r.cpu_seconds),
               counts(r.methods).c_str(), counts(r.verdicts).c_str(), quantile(r.k_p99, 0.5), quantile(r.k_p99, 0.9),
-              r.k_p99.empty() ? 0.0 : *std::max_element(r.k_p99.begin(), r.k_p99.end()));
+              r.k_p99.empty() ? 0.0 : *std::max_element(r.k_p99.begin(), r.k_p99.end()), quantile(r.area_distortion, 0.5),
+              quantile(r.area_distortion, 0.9), max_of(r.area_distortion));
 }
 
 }  // namespace
@@ -197,8 +200,8 @@ int main(int argc, char** argv) {
     for (const auto& f : files) map_one(f, options, row, all);
     rows.push_back(std::move(row));
   }
-  std::printf("| collection | found | accepted | 0-flip | ok | map s median / p95 / max | map CPU s median / p95 / max | methods | verdicts | K p99 median / p90 / max |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| collection | found | accepted | 0-flip | ok | map s median / p95 / max | map CPU s median / p95 / max | methods | verdicts | K p99 median / p90 / max | area distortion median / p90 / max |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) print(r);
   if (rows.size() > 1) print(all);
   std::printf("\n| collection | mapped | CPU s per 10K V median / p95 / max | over 3 s/10K | CPU s median/max by method ended on | budget stops |\n");

@@ -57,8 +57,8 @@ struct FlowResult {
   // The linear map used the clamped, all-positive weights (Tutte/Floater): a second, clamped attempt would repeat it.
   bool clamped_weights = false;
   // The map is normalised by the method itself and is not conformal, so the Möbius group is not its gauge: the
-  // chain does not balance it with the input's vertex areas (the progressive embedding: uniform-weight balancing;
-  // balancing its map of a decimated spine with input areas squeezed faces to 1e-18 and flipped 17 of them).
+  // chain does not balance it with the input's vertex areas (the progressive embedding: its stretch or uniform
+  // spreading; balancing its map of a decimated spine with input areas squeezed faces to 1e-18 and flipped 17).
   bool keep_normalisation = false;
   geometry::IntrinsicStats operator_stats;  // the Laplacian of the input (or first) surface: repairs, flips
 };

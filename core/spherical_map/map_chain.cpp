@@ -22,10 +22,9 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   const MapAttemptPlan cmcf_more{MapMethod::Cmcf, false, cmcf_long.max_steps, 0};
   const MapAttemptPlan linear{MapMethod::Linear, false, 1};
   const MapAttemptPlan linear_clamped{MapMethod::Linear, false, 1, -1, true};
-  // The progressive embedding (progressive_embedding.hpp) is opt-in only, as the recipe's method: it is not yet
-  // the last resort of the other chains (measured on the shared meshes that fail every other method: 3 of 4 get a
-  // verified map, nmv_spine_25 finds no kernel point in double precision, and the decimated spines' maps have an
-  // area distortion of ~1e6).
+  // The last resort of every chain (progressive_embedding.hpp): bijective by construction, with the area of thin
+  // parts kept representable. It runs only while no Ok map is held (Chain::applies), so a mesh that an earlier
+  // method maps keeps that map, and also once the budgets are spent (a one-shot method, Chain::skipped).
   const MapAttemptPlan progressive{MapMethod::Progressive, false, 1};
   std::vector<MapAttemptPlan> plans;
   if (options.method == MapMethod::Willmore) {
@@ -35,6 +34,7 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
       plans.push_back(cmcf_long);
       plans.push_back(linear);
       plans.push_back(linear_clamped);
+      plans.push_back(progressive);
     }
   } else if (options.method == MapMethod::Cmcf) {
     plans.push_back(cmcf);
@@ -43,6 +43,7 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
       plans.push_back(linear);
       plans.push_back(linear_clamped);
       plans.push_back(willmore);
+      plans.push_back(progressive);
     }
   } else if (options.method == MapMethod::Progressive) {
     plans.push_back(progressive);
@@ -56,6 +57,7 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
       plans.push_back(linear_clamped);
       plans.push_back(cmcf_long);
       plans.push_back(willmore);
+      plans.push_back(progressive);
     }
   }
   return plans;
@@ -137,6 +139,9 @@ class Chain {
     if (plan.clamp && !options_.linear.always_clamp && !outcome_.attempts.empty() &&
         outcome_.attempts.back().method == MapMethod::Linear && outcome_.attempts.back().clamped_weights)
       return false;
+    // The last resort after other methods: only without an Ok map (a provisional one included), so the maps of
+    // meshes that an earlier method maps do not change.
+    if (plan.method == MapMethod::Progressive && options_.method != MapMethod::Progressive && holding_ok()) return false;
     // With prefer_method, an Ok map of the requested method is final against every other method's: only the same
     // method's later attempts (a continued flow) can still replace it.
     if (options_.prefer_method && holding_ok() && plan.method != options_.method && chosen().method == options_.method)

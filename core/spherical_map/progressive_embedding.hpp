@@ -1,34 +1,40 @@
 #pragma once
 // Progressive spherical embedding: a map whose bijectivity does not depend on a flow converging or on the shape's
-// conformal area compression (Praun & Hoppe 2003, "Spherical parametrization and remeshing",
-// ACM TOG 22(3), §3: coarse-to-fine embedding through a progressive mesh; the kernel argument is theirs, the
-// relaxation below replaces their stretch optimisation).
+// conformal area compression (Praun & Hoppe 2003, "Spherical parametrization and remeshing", ACM TOG 22(3), §3:
+// coarse-to-fine embedding through a progressive mesh, each vertex split placed in its one-ring's kernel, the
+// L2 stretch of Sander et al. 2001 lowered as the vertices come back). The last resort of every chain
+// (map_chain.cpp plan_attempts) and a recipe method of its own (`--method progressive`).
 //  1. Simplify the mesh by half-edge collapses (shortest edge first) down to a tetrahedron. A collapse v → u is
 //     taken only when it passes the link condition (the common neighbours of u and v are exactly the two vertices
 //     opposite the edge; Dey, Edelsbrunner, Guha, Nekhayev 1999), so every intermediate mesh is a closed manifold
 //     genus-0 triangulation; every such triangulation with more than 4 vertices has a contractible edge (Steinitz),
 //     so the simplification always reaches 4 vertices.
 //  2. Embed the tetrahedron as the regular one inscribed in the unit sphere, oriented like the mesh.
-//  3. Undo the collapses in reverse order (vertex splits). A split of u re-inserts v inside the spherical kernel of
-//     its one-ring (the intersection of the hemispheres left of its link edges): the kernel is never empty — points
-//     close to u in the bisector of the sector that v's faces took from u's star see every link edge (Praun &
-//     Hoppe's argument) — and every face that does not contain v existed, positively oriented, before the split.
-//     v goes to the average of its neighbours when that point is in the kernel, else to the best of a set of
-//     candidates around u.
-//  4. Each time the vertex count has grown by `level_growth`, and at the end, relax: Gauss–Seidel sweeps moving
-//     every vertex toward the average of its neighbours (uniform spherical Tutte weights: equal sphere area per
-//     vertex, so a thin tube keeps a share of the sphere proportional to its vertex count — no exponential
-//     compression), each move shortened until all faces of the vertex stay positively oriented with height at
-//     least min_height; then Möbius balancing with uniform weights, kept only when it leaves every face valid
-//     (it stops the slow drift of iterative spherical averaging toward a point; Gotsman, Gu, Sheffer 2003).
-// Every accepted state is a map with every chord triangle positively oriented and no height below min_height;
+//  3. Undo the collapses in reverse order (vertex splits). A split of u re-inserts v at the centroid of the
+//     kernel of its one-ring, computed exactly as a convex polygon by half-plane clipping in the gnomonic chart
+//     about u (great circles are straight lines there). The kernel is never empty — points close to u in the
+//     sector that v's faces took from u's star see every link edge (Praun & Hoppe's argument) — and every face
+//     that does not contain v existed, positively oriented, before the split. Should the kernel be too thin for
+//     the height margin in double precision, u's neighbourhood is spread first (v collapsed back) and the split
+//     tried again. v and u are then moved down the stretch energy.
+//  4. Each time the vertex count has grown by `level_growth`, and at the end, Gauss–Seidel sweeps of stretch
+//     descent over all vertices. The stretch of the map sphere → surface grows without bound when a sphere triangle
+//     shrinks relative to its surface triangle, so thin parts (a coil's middle, a spine's neck) keep a sphere area
+//     close to their surface share instead of the exponential compression of conformal or uniform-Tutte maps.
+//     Every move is a line search step taken only when all faces of the moved vertex stay positively oriented
+//     with height at least min_height.
+// Every accepted state is a map with every chord triangle positively oriented and no height below min_height (or,
+// after a placement that needed the last retries, 3 % of it: still 3× the verification's degenerate_height);
 // the chain verifies the result as for every method, without its Möbius balancing by input areas
-// (FlowResult::keep_normalisation). Cost O(V log V) plus the sweeps (linear in V per sweep).
-// Status: a recipe method of its own (`--method progressive`), not yet the last resort of the other chains
-// (map_chain.cpp): on a decimated 9,306-vertex spine and on camel (9,770) no kernel candidate keeps min_height
-// at 2,627 and 7,256 vertices (the chain then falls back to the linear map), and
-// on decimated spines the uniform weights leave an area distortion of ~1e6 (coil: 2.3; tests/spherical_map/
-// progressive_embedding_test.cpp).
+// (FlowResult::keep_normalisation: the stretch minimum is not Möbius-invariant, balancing would only raise it).
+// Cost O(V log V) for the simplification plus the sweeps (linear in V per sweep; the level sweeps sum to a
+// geometric series, about sweeps_per_level · V / (1 − 1/level_growth) vertex moves).
+
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "core/spherical_map/flow_result.hpp"
 #include "core/spherical_map/map_context.hpp"
@@ -39,6 +45,8 @@ struct ProgressiveOptions {
   double level_growth = 1.25;   // relax whenever the vertex count has grown by this factor
   int sweeps_per_level = 4;     // Gauss–Seidel sweeps per level
   int final_sweeps = 40;        // ... and on the whole mesh at the end
+  // A sweep that lowers the stretch energy by less than this share of it ends the level's (or the final) sweeps.
+  double sweep_tolerance = 1e-3;
   // Smallest chord-triangle height 2·area/longest edge (unit sphere) a move may leave: well above the
   // verification's degenerate_height (1e-14), so one more rounding cannot flip a face.
   double min_height = 1e-12;
@@ -52,6 +60,15 @@ namespace spherical {
 // (neither is expected: the message then says which vertex). control.deadline is checked between levels; the
 // CPU budget is not used (a last resort runs to its end).
 FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& options, const FlowControl& control = {});
+
+// The placement step of a vertex split: the centroid of the kernel of a one-ring on the unit sphere, i.e. of the
+// points y that see every link edge (a, b) from the left, det(y, a, b) > 0 (`link`: the edges (a, b) of the faces
+// (v, a, b) of the star, any order). Computed exactly as a convex polygon in the gnomonic chart about the sphere
+// point c — central projection onto the tangent plane at c maps great circles to lines, so each condition is a
+// half-plane — by clipping a square about c (Sutherland & Hodgman 1974), within the hemisphere about c; c should
+// lie in the kernel or on its boundary. nullopt when the clipped polygon has no area in double precision.
+std::optional<Eigen::Vector3d> one_ring_kernel_centroid(
+    const Eigen::Vector3d& c, const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& link);
 
 }  // namespace spherical
 }  // namespace wish

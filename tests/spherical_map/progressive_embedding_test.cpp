@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <set>
 #include <utility>
@@ -112,6 +113,37 @@ Mesh random_retriangulation(unsigned seed, int flips) {
   return m;
 }
 
+// The placement step: the kernel of a hexagram-shaped one-ring (outer corners at radius 0.3, inner at 0.3/√3) in
+// the gnomonic chart about the north pole is its inner hexagon, so its centroid is the hexagram's centre — for any
+// shift of the ring in the chart (great circles are lines there). A ring with spikes this sharp has a kernel much
+// smaller than the ring (a point near an outer corner sees the neighbouring spikes' edges from the wrong side).
+TEST(ProgressiveEmbedding, KernelCentroidOfAHexagramIsItsCentre) {
+  for (const Eigen::Vector2d& shift : {Eigen::Vector2d(0, 0), Eigen::Vector2d(0.05, -0.03), Eigen::Vector2d(-0.06, 0.02)}) {
+    SCOPED_TRACE(shift.transpose());
+    std::vector<Eigen::Vector3d> ring;
+    for (int i = 0; i < 12; ++i) {
+      const double r = i % 2 == 0 ? 0.3 : 0.3 / std::sqrt(3.0), angle = i * std::numbers::pi / 6;
+      ring.push_back(Eigen::Vector3d(shift.x() + r * std::cos(angle), shift.y() + r * std::sin(angle), 1).normalized());
+    }
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> link;
+    for (size_t i = 0; i < ring.size(); ++i) link.emplace_back(ring[i], ring[(i + 1) % ring.size()]);
+    const std::optional<Eigen::Vector3d> y = spherical::one_ring_kernel_centroid(Eigen::Vector3d::UnitZ(), link);
+    ASSERT_TRUE(y.has_value());
+    const Eigen::Vector3d expected = Eigen::Vector3d(shift.x(), shift.y(), 1).normalized();
+    EXPECT_LT((*y - expected).norm(), 1e-12);
+    for (const auto& [a, b] : link) EXPECT_GT(y->dot(a.cross(b)), 0);  // sees every link edge from the left
+    // An outer corner pulled in (0.3 → 0.16) keeps a star-shaped ring; the kernel shrinks to that side, and the
+    // centroid still sees every edge.
+    link.front().first = link.back().second = Eigen::Vector3d(shift.x() + 0.16, shift.y(), 1).normalized();
+    const std::optional<Eigen::Vector3d> z = spherical::one_ring_kernel_centroid(Eigen::Vector3d::UnitZ(), link);
+    ASSERT_TRUE(z.has_value());
+    for (const auto& [a, b] : link) EXPECT_GT(z->dot(a.cross(b)), 0);
+  }
+  // An edge and its reverse (no point sees both from the left): no kernel.
+  const Eigen::Vector3d a = Eigen::Vector3d(0.2, 0, 1).normalized(), b = Eigen::Vector3d(0, 0.2, 1).normalized();
+  EXPECT_FALSE(spherical::one_ring_kernel_centroid(Eigen::Vector3d::UnitZ(), {{a, b}, {b, a}}).has_value());
+}
+
 TEST(ProgressiveEmbedding, CoilMapsBijectivelyWithItsMiddleRepresentable) {
   const Mesh coil = testing::make_coil();
   Eigen::MatrixX3d u;
@@ -162,37 +194,48 @@ TEST(ProgressiveEmbedding, IsARecipeMethodOfItsOwn) {
   EXPECT_EQ(r.quality.degree, 1);
 }
 
-TEST(ProgressiveEmbedding, IsOptInOnly) {
-  // Not (yet) the last resort of the other chains: see map_chain.cpp plan_attempts.
+TEST(ProgressiveEmbedding, EndsEveryChainWithFallback) {
   for (const MapMethod method : {MapMethod::Willmore, MapMethod::Cmcf, MapMethod::Linear}) {
     SphericalMapOptions o;
     o.method = method;
-    for (const MapAttemptPlan& p : plan_attempts(o)) EXPECT_NE(p.method, MapMethod::Progressive) << to_string(method);
+    const std::vector<MapAttemptPlan> plans = plan_attempts(o);
+    ASSERT_GT(plans.size(), 1u);
+    EXPECT_EQ(plans.back().method, MapMethod::Progressive) << to_string(method);
+    for (size_t k = 0; k + 1 < plans.size(); ++k) EXPECT_NE(plans[k].method, MapMethod::Progressive) << to_string(method);
+    o.fallback = false;
+    EXPECT_EQ(plan_attempts(o).size(), 1u);  // no fallback: the requested method alone
   }
 }
 
-// Shared real meshes on which every attempt of the default chain leaves flips (Willmore stalls with 20–1,087
-// flipped faces, cMCF and both linear maps fail too): the progressive embedding, as `wish map --method progressive`
-// runs it, gives each a verified map. Known failure, left out: nmv_spines/nmv_spine_25.obj (9,306 vertices) — no
-// kernel point keeps the height margin at 2,627 vertices.
-TEST(ProgressiveEmbedding, MapsSharedMeshesThatFailEveryOtherMethod) {
+TEST(ProgressiveEmbedding, DoesNotRunWhenAnEarlierMethodMaps) {
+  // A mesh the first attempt maps keeps that map: the last resort is not tried (the maps of meshes that mapped
+  // before it joined the chain do not change).
+  const SphericalMapResult r = compute_spherical_map(make_icosphere(3));
+  ASSERT_TRUE(r.ok());
+  for (const MapAttempt& a : r.attempts) EXPECT_NE(a.method, MapMethod::Progressive);
+}
+
+// Shared real meshes on which every other attempt of the default chain leaves flips (Willmore stalls with 20–1,087
+// flipped faces, cMCF and both linear maps fail too): the default chain, as `wish map` runs it, ends on the
+// progressive embedding with a verified map whose area distortion stays bounded (the uniform spreading alone left
+// ~1e6 on the nmv spines). nmv_spine_25 (9,306 vertices) found no kernel point before the kernel was computed
+// exactly (half-plane clipping in the gnomonic chart).
+TEST(ProgressiveEmbedding, EndsTheDefaultChainOnSharedMeshesThatFailEveryOtherMethod) {
   WISH_SKIP_WITHOUT_SHARED_DATA();
   const std::filesystem::path hard = *testing::shared_data_dir() / "hard";
-  for (const char* name : {"hvcl_spines/spine_7.off", "nmv_spines/nmv_spine_3.obj", "nmv_spines/nmv_spine_4.obj"}) {
+  for (const char* name : {"hvcl_spines/spine_7.off", "nmv_spines/nmv_spine_3.obj", "nmv_spines/nmv_spine_4.obj",
+                           "nmv_spines/nmv_spine_25.obj"}) {
     SCOPED_TRACE(name);
     if (!std::filesystem::exists(hard / name)) continue;
     const PreparedMesh prepared = prepare_for_mapping(read_mesh_file(hard / name).mesh);
     ASSERT_TRUE(prepared.mappable());
-    const SphericalMapResult plain = compute_spherical_map(prepared.mesh);
-    EXPECT_FALSE(plain.ok());  // what the default chain gives today (the reason for the method)
-    SphericalMapOptions o;
-    o.method = MapMethod::Progressive;
-    const SphericalMapResult r = compute_spherical_map(prepared.mesh, o);
+    const SphericalMapResult r = compute_spherical_map(prepared.mesh);
     EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts.back().message;
     EXPECT_EQ(r.method_used, MapMethod::Progressive);
     EXPECT_EQ(r.quality.flipped_faces, 0);
     EXPECT_EQ(r.quality.degenerate_faces, 0);
     EXPECT_EQ(r.quality.degree, 1);
+    EXPECT_LT(r.quality.area_distortion, 100);
     std::printf("[progressive] %-28s ended on %s after %zu attempts, K p99 %.1f, area distortion %.2f\n", name,
                 to_string(r.method_used), r.attempts.size(), r.quality.conformal_p99, r.quality.area_distortion);
   }
