@@ -6,7 +6,7 @@
 set -euo pipefail
 
 runtime_build=(
-  build-essential cmake pkg-config git ca-certificates curl
+  build-essential cmake ninja-build pkg-config git ca-certificates curl
   libeigen3-dev libsuitesparse-dev libopenblas-dev libopenblas0-pthread
   libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsvm-dev
   zlib1g-dev libtiff-dev libopenmesh-dev

@@ -12,6 +12,8 @@ export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1   # tests run in parallel: no ne
 fuzz_seconds=${WISH_FUZZ_SECONDS:-30}
 
 step() { printf '\n==== %s (%s)\n' "$1" "$(date -u +%H:%M:%S)"; }
+# Ninja for a new build folder (see scripts/serve.sh); a folder configured before keeps its generator.
+generator() { sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$1/CMakeCache.txt" 2>/dev/null | grep . || echo Ninja; }
 
 step "dependencies"
 bash scripts/install-deps.sh --test
@@ -27,26 +29,36 @@ docker_prebuild_pid=$!
 trap 'if kill -0 "$docker_prebuild_pid" 2>/dev/null; then pkill -TERM -P "$docker_prebuild_pid"; kill -TERM "$docker_prebuild_pid"; wait "$docker_prebuild_pid" 2>/dev/null; fi' EXIT
 
 step "release build"
-cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DWISH_SANITIZE=OFF >/dev/null
+cmake -G "$(generator build/release)" -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DWISH_SANITIZE=OFF >/dev/null
 cmake --build build/release -j "$jobs"
 
 step "sanitizer build (ASan + UBSan)"
-cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DWISH_SANITIZE=ON \
+cmake -G "$(generator build/asan)" -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DWISH_SANITIZE=ON \
       -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
 
 step "libFuzzer targets"
-CC=clang CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
+CC=clang CXX=clang++ cmake -G "$(generator build/fuzz)" -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
       -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
       -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF -DWISH_BUILD_TESTS=ON >/dev/null
 cmake --build build/fuzz -j "$jobs" --target wish_fuzzers
-for fuzzer in build/fuzz/tests/fuzz/fuzz_*; do
-  [[ -x "$fuzzer" ]] || continue
-  name=$(basename "$fuzzer")
-  corpus="build/fuzz/corpus/$name"; mkdir -p "$corpus"
-  echo "-- $name for ${fuzz_seconds}s"
+# A fuzzer runs on one core: $jobs of them at a time, each for the same bounded time; their reports in turn.
+fuzz_one() {
+  local fuzzer=$1 name; name=$(basename "$fuzzer")
+  local corpus="build/fuzz/corpus/$name"; mkdir -p "$corpus"
   "$fuzzer" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=0 \
-            "$corpus" "tests/fuzz/corpus/${name#fuzz_}" 2>&1 | tail -n 3
+            "$corpus" "tests/fuzz/corpus/${name#fuzz_}" >"build/fuzz/$name.log" 2>&1
+}
+fuzzers=(); for fuzzer in build/fuzz/tests/fuzz/fuzz_*; do [[ -x "$fuzzer" ]] && fuzzers+=("$fuzzer"); done
+for ((i = 0; i < ${#fuzzers[@]}; i += jobs)); do
+  pids=()
+  for fuzzer in "${fuzzers[@]:i:jobs}"; do fuzz_one "$fuzzer" & pids+=("$!:$fuzzer"); done
+  for entry in "${pids[@]}"; do
+    pid=${entry%%:*} name=$(basename "${entry#*:}")
+    status=0; wait "$pid" || status=$?
+    echo "-- $name for ${fuzz_seconds}s"; tail -n 3 "build/fuzz/$name.log"
+    if ((status)); then echo "fuzzer $name failed (exit $status): build/fuzz/$name.log" >&2; exit 1; fi
+  done
 done
 
 step "deployment linters"
