@@ -5,7 +5,8 @@
 // (bench/train_scale_sklearn.py, Debian /usr/bin/python3) on the same rows and splits, in the same run.
 //   train_scale_bench [--sizes 250,1000,3000] [--jobs 2] [--exhaustive-max N (whole train, 250)]
 //                     [--grid-exhaustive-max N (grid alone, 1000)] [--whole-max N (1000)] [--sklearn-max N (3000)]
-//                     [--spread S] [--csv REAL.csv ...]
+//                     [--spread S] [--csv REAL.csv ...] [--patience P (early stop; default: the library's)]
+//   train_scale_bench --sizes 1000 --profile FAMILY [--profile-exhaustive]: per cell CPU seconds and score of one grid
 // Descriptor sets: drawn from the synthetic demo set's descriptors (data/models/demo-descriptors.csv): per class a
 // Gaussian fitted to [log xi(1..10), global descriptors] (covariance shrunk 20 % to its diagonal), widened by
 // --spread (default 1.5: the classes overlap more than in the demo set, as real ones do). --csv adds real labelled
@@ -195,6 +196,7 @@ void profile_grid(const std::vector<TrainingSample>& samples, TrainOptions t, co
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // rows survive a run stopped for time
   std::vector<int> sizes{250, 1000, 3000};
   std::vector<std::string> real_csvs;
   int jobs = 2, exhaustive_max = 250, grid_exhaustive_max = 1000, whole_max = 1000, sklearn_max = 3000;
@@ -222,7 +224,8 @@ int main(int argc, char** argv) {
     else {
       std::cerr << "usage: train_scale_bench [--sizes 250,1000,3000] [--jobs J] [--exhaustive-max N] "
                    "[--grid-exhaustive-max N] [--whole-max N] "
-                   "[--sklearn-max N] [--spread S] [--csv REAL.csv ...]\n";
+                   "[--sklearn-max N] [--spread S] [--csv REAL.csv ...] [--patience P] "
+                   "[--profile FAMILY [--profile-exhaustive]]\n";
       return 2;
     }
   }
