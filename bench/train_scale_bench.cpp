@@ -5,7 +5,8 @@
 // (bench/train_scale_sklearn.py, Debian /usr/bin/python3) on the same rows and splits, in the same run.
 //   train_scale_bench [--sizes 250,1000,3000] [--jobs 2] [--exhaustive-max N (whole train, 250)]
 //                     [--grid-exhaustive-max N (grid alone, 1000)] [--whole-max N (1000)] [--sklearn-max N (3000)]
-//                     [--spread S] [--csv REAL.csv ...]
+//                     [--spread S] [--csv REAL.csv ...] [--patience P (early stop; default: the library's)]
+//   train_scale_bench --sizes 1000 --profile FAMILY [--profile-exhaustive]: per cell CPU seconds and score of one grid
 // Descriptor sets: drawn from the synthetic demo set's descriptors (data/models/demo-descriptors.csv): per class a
 // Gaussian fitted to [log xi(1..10), global descriptors] (covariance shrunk 20 % to its diagonal), widened by
 // --spread (default 1.5: the classes overlap more than in the demo set, as real ones do). --csv adds real labelled
@@ -31,6 +32,8 @@
 #include "core/classify/global_descriptors.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/splits.hpp"
+#include "core/classify/feature_pipeline.hpp"
+#include "core/classify/standard_scaler.hpp"
 #include "core/classify/training.hpp"
 
 namespace {
@@ -137,12 +140,15 @@ WholeRun whole_train(const std::vector<TrainingSample>& samples, TrainOptions t,
   return w;
 }
 
+int g_patience = 0;
+
 TrainOptions default_options(int jobs) {
   TrainOptions t;  // the defaults of `wish train` (cli/cmd_train.cpp): Lmax 10, log, invariants
   t.recipe.features.l_max = 10;
   t.recipe.features.log_transform = true;
   t.recipe.sh.lmax = 10;
   t.grid.jobs = jobs;
+  if (g_patience > 0) t.grid.early_stop_patience = g_patience;
   t.trained_at = "2024-01-01T00:00:00Z";
   return t;
 }
@@ -156,13 +162,48 @@ void print_whole(const char* name, std::size_t n, const WholeRun& w) {
   std::fflush(stdout);
 }
 
+// Where a grid search's time goes: per cell (C down, gamma across) the CPU seconds of its split fits and the mean
+// validation accuracy, on the hold-out training rows of train_classifier, for the given family.
+void profile_grid(const std::vector<TrainingSample>& samples, TrainOptions t, const std::string& family) {
+  t.recipe.features.family = feature_family_from_name(family);
+  Eigen::MatrixXd X;
+  std::vector<int> y;
+  std::vector<std::string> classes;
+  build_feature_matrix(samples, t.recipe.features, X, y, classes);
+  const Split holdout = stratified_shuffle_split(y, 1, t.test_fraction, t.seed).front();
+  Eigen::MatrixXd Xa(static_cast<Eigen::Index>(holdout.train.size()), X.cols());
+  std::vector<int> ya;
+  for (std::size_t i = 0; i < holdout.train.size(); ++i) {
+    Xa.row(static_cast<Eigen::Index>(i)) = X.row(holdout.train[i]);
+    ya.push_back(y[holdout.train[i]]);
+  }
+  const Eigen::MatrixXd Xs = StandardScaler::fit(Xa).transform(Xa);
+  const auto splits = stratified_shuffle_split(ya, t.grid_splits, t.grid_validation_fraction, t.seed + 1);
+  const double c0 = cpu_seconds();
+  const GridSearchResult r = grid_search(Xs, ya, splits, t.grid);
+  std::printf("## profile %s n=%zu: %.1f CPU s, wall %.1f s, best %.0e/%.0e %.4f, fits %d capped %d skipped %d\n",
+              family.c_str(), samples.size(), cpu_seconds() - c0, r.seconds, r.C(), r.gamma(), r.best_score, r.fits,
+              r.total_capped_fits(), r.cells_skipped);
+  for (int ci = 0; ci < static_cast<int>(r.Cs.size()); ++ci) {
+    std::printf("C=%6.0e |", r.Cs[ci]);
+    for (int gi = 0; gi < static_cast<int>(r.gammas.size()); ++gi)
+      std::printf(" %5.1f/%.3f%s", r.cell_cpu_seconds(ci, gi), r.mean_score(ci, gi), r.capped_fits(ci, gi) ? "!" : " ");
+    std::printf("\n");
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // rows survive a run stopped for time
   std::vector<int> sizes{250, 1000, 3000};
   std::vector<std::string> real_csvs;
   int jobs = 2, exhaustive_max = 250, grid_exhaustive_max = 1000, whole_max = 1000, sklearn_max = 3000;
   double spread = 1.5;
+  std::string profile_family;
+  int patience = 0;  // 0: the default of GridSearchOptions
+  bool profile_exhaustive = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
@@ -177,13 +218,18 @@ int main(int argc, char** argv) {
     else if (a == "--sklearn-max") sklearn_max = std::stoi(next());
     else if (a == "--spread") spread = std::stod(next());
     else if (a == "--csv") real_csvs.push_back(next());
+    else if (a == "--profile") profile_family = next();
+    else if (a == "--patience") patience = std::stoi(next());
+    else if (a == "--profile-exhaustive") profile_exhaustive = true;
     else {
       std::cerr << "usage: train_scale_bench [--sizes 250,1000,3000] [--jobs J] [--exhaustive-max N] "
                    "[--grid-exhaustive-max N] [--whole-max N] "
-                   "[--sklearn-max N] [--spread S] [--csv REAL.csv ...]\n";
+                   "[--sklearn-max N] [--spread S] [--csv REAL.csv ...] [--patience P] "
+                   "[--profile FAMILY [--profile-exhaustive]]\n";
       return 2;
     }
   }
+  g_patience = patience;
   const fs::path project_data = WISH_PROJECT_DATA_DEFAULT;
   const auto templ = read_descriptor_table(read_text(project_data / "models" / "demo-descriptors.csv")).samples;
   struct Set {
@@ -193,6 +239,14 @@ int main(int argc, char** argv) {
   std::vector<Set> sets;
   for (int n : sizes) sets.push_back({"generated", generate(templ, n, spread, 1000 + static_cast<std::uint64_t>(n))});
   for (const auto& p : real_csvs) sets.push_back({fs::path(p).filename().string(), read_descriptor_table(read_text(p)).samples});
+  if (!profile_family.empty()) {
+    for (const auto& set : sets) {
+      TrainOptions t = default_options(jobs);
+      if (profile_exhaustive) t.grid.precomputed_kernel = t.grid.early_stop = false;
+      profile_grid(set.samples, t, profile_family);
+    }
+    return 0;
+  }
   // Not __FILE__: with a compiler cache's base directory it is relative to the build directory.
   const fs::path script = project_data.parent_path() / "bench" / "train_scale_sklearn.py";
   const fs::path tmp = fs::temp_directory_path() / ("wish_train_scale_" + std::to_string(::getpid()));

@@ -127,8 +127,9 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--c-range", o->c_range, "log10 of the first and last C")->expected(2)->capture_default_str();
   sub.add_option("--gamma-range", o->gamma_range, "log10 of the first and last gamma")->expected(2)->capture_default_str();
   sub.add_flag("--early-stop,!--no-early-stop", o->early_stop,
-               "Grid search: stop a gamma row, C ascending, after 2 consecutive C whose mean validation accuracy is "
-               "more than 0.05 below the row's best (default on; --no-early-stop: every cell)");
+               "Grid search: stop a gamma row, C ascending, at the first C past its peak (once the row has risen, "
+               "a C whose mean validation accuracy is not above the row's best; default on; --no-early-stop: every "
+               "cell)");
   sub.add_option("--novelty-quantile", o->novelty_quantile,
                  "The model's default novelty threshold: per class, this quantile of the class's leave-one-out k-NN "
                  "distances (a prediction above every class's says novel: true; predict/serve may override)")

@@ -10,6 +10,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <ctime>
 
 #include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/svm_engine.hpp"
@@ -62,6 +63,12 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
 
 namespace {
 
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 struct CellStats {
   double mean = 0, std = 0;
 };
@@ -93,6 +100,7 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
   }
   parallel_for(nc * ng, options.jobs, [&](int cell) {
     const int ci = cell / ng, gi = cell % ng;
+    const double cell_start = thread_cpu_seconds();
     SvmParams params;
     params.C = r.Cs[ci];
     params.gamma = r.gammas[gi];
@@ -112,6 +120,7 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
     r.mean_score(ci, gi) = st.mean;
     r.std_score(ci, gi) = st.std;
     r.capped_fits(ci, gi) = capped;
+    r.cell_cpu_seconds(ci, gi) = thread_cpu_seconds() - cell_start;
   });
 }
 
@@ -136,7 +145,7 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
   parallel_for(ng, options.jobs, [&](int gi) {
     std::optional<PrecomputedKernel> kernel;
     if (options.precomputed_kernel) kernel.emplace(D, r.gammas[gi]);
-    double row_best = -1;
+    double row_best = -1, row_first = std::numeric_limits<double>::quiet_NaN();
     int fallen = 0;
     bool stopped = false;
     for (int ci : c_order) {
@@ -144,6 +153,7 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
         r.mean_score(ci, gi) = r.std_score(ci, gi) = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
+      const double cell_start = thread_cpu_seconds();
       SvmParams params;
       params.C = r.Cs[ci];
       params.gamma = r.gammas[gi];
@@ -169,9 +179,14 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
       r.mean_score(ci, gi) = st.mean;
       r.std_score(ci, gi) = st.std;
       r.capped_fits(ci, gi) = capped;
+      r.cell_cpu_seconds(ci, gi) = thread_cpu_seconds() - cell_start;
       if (!options.early_stop) continue;
+      if (std::isnan(row_first)) row_first = st.mean;
+      // Only a row that has risen above its first cell can have passed its peak; a flat start (every sample in one
+      // class's region, as at the tiny gammas) is not a plateau.
+      const bool risen = row_best > row_first;
+      fallen = risen && st.mean <= row_best - options.early_stop_drop ? fallen + 1 : 0;
       row_best = std::max(row_best, st.mean);
-      fallen = st.mean < row_best - options.early_stop_drop ? fallen + 1 : 0;
       stopped = fallen >= options.early_stop_patience;
     }
   });
@@ -195,6 +210,7 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
   r.mean_score.setZero(nc, ng);
   r.std_score.setZero(nc, ng);
   r.capped_fits.setZero(nc, ng);
+  r.cell_cpu_seconds.setZero(nc, ng);
   if (!options.precomputed_kernel && !options.early_stop) exhaustive_rbf_cells(X, y, splits, options, r);
   else row_wise_cells(X, y, splits, options, r);
   r.best_score = -1;

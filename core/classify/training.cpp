@@ -106,33 +106,57 @@ NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vect
   for (const auto& [label, n] : counts) min_class = std::min(min_class, n);
   const int outer = std::min(options.outer_folds, min_class);
   if (outer < 2) return out;
+  // The outer folds are independent: they run in parallel on the grid's workers, each with a one-thread inner search
+  // (finer-grained than the gamma rows of one inner grid, so the two cores stay busy), and are gathered in fold order
+  // so the result does not depend on scheduling.
+  struct Task {
+    std::uint64_t seed_r = 0;
+    std::size_t f = 0;
+    Split fold;
+  };
+  std::vector<Task> tasks;
   for (int r = 0; r < options.repeats; ++r) {
     const std::uint64_t seed_r = options.seed + 1000 * static_cast<std::uint64_t>(r);
     const auto folds = stratified_k_fold(y, outer, seed_r);
-    for (std::size_t f = 0; f < folds.size(); ++f) {
-      const Eigen::MatrixXd Xa = rows_of(X, folds[f].train), Xb = rows_of(X, folds[f].test);
-      const std::vector<int> ya = pick(y, folds[f].train), yb = pick(y, folds[f].test);
-      const StandardScaler sc = StandardScaler::fit(Xa);
-      const Eigen::MatrixXd Xas = sc.transform(Xa), Xbs = sc.transform(Xb);
-      GridSearchResult inner;
-      try {
-        inner = search(Xas, ya, options.inner_splits, options.validation_fraction, seed_r + f + 1, options.grid);
-      } catch (const InvalidInputError&) {
-        continue;  // an outer fold too small for the inner split; reported through the fold count
-      }
-      SvmParams p;
-      p.C = inner.C();
-      p.gamma = inner.gamma();
-      p.probability = false;
-      const SvmEngine m = SvmEngine::train(Xas, ya, p, 0);
-      std::vector<int> pb;
-      for (Eigen::Index i = 0; i < Xbs.rows(); ++i) pb.push_back(m.predict_label(Xbs.row(i).transpose()));
-      out.scores.push_back(accuracy(yb, pb));
-      out.fits += inner.fits;
-      out.capped_fits += inner.total_capped_fits();
-      out.cells_skipped += inner.cells_skipped;
-      out.chosen.emplace_back(p.C, p.gamma);
+    for (std::size_t f = 0; f < folds.size(); ++f) tasks.push_back({seed_r, f, folds[f]});
+  }
+  struct FoldResult {
+    bool done = false;
+    double score = 0;
+    GridSearchResult inner;
+  };
+  std::vector<FoldResult> results(tasks.size());
+  GridSearchOptions inner_grid = options.grid;
+  inner_grid.jobs = 1;
+  parallel_for(static_cast<int>(tasks.size()), options.grid.jobs, [&](int t) {
+    const Task& task = tasks[static_cast<std::size_t>(t)];
+    const Eigen::MatrixXd Xa = rows_of(X, task.fold.train), Xb = rows_of(X, task.fold.test);
+    const std::vector<int> ya = pick(y, task.fold.train), yb = pick(y, task.fold.test);
+    const StandardScaler sc = StandardScaler::fit(Xa);
+    const Eigen::MatrixXd Xas = sc.transform(Xa), Xbs = sc.transform(Xb);
+    FoldResult& res = results[static_cast<std::size_t>(t)];
+    try {
+      res.inner = search(Xas, ya, options.inner_splits, options.validation_fraction, task.seed_r + task.f + 1, inner_grid);
+    } catch (const InvalidInputError&) {
+      return;  // an outer fold too small for the inner split; reported through the fold count
     }
+    SvmParams p;
+    p.C = res.inner.C();
+    p.gamma = res.inner.gamma();
+    p.probability = false;
+    const SvmEngine m = SvmEngine::train(Xas, ya, p, 0);
+    std::vector<int> pb;
+    for (Eigen::Index i = 0; i < Xbs.rows(); ++i) pb.push_back(m.predict_label(Xbs.row(i).transpose()));
+    res.score = accuracy(yb, pb);
+    res.done = true;
+  });
+  for (const FoldResult& res : results) {
+    if (!res.done) continue;
+    out.scores.push_back(res.score);
+    out.fits += res.inner.fits;
+    out.capped_fits += res.inner.total_capped_fits();
+    out.cells_skipped += res.inner.cells_skipped;
+    out.chosen.emplace_back(res.inner.C(), res.inner.gamma());
   }
   if (!out.scores.empty()) {
     double sum = 0;

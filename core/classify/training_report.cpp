@@ -49,8 +49,8 @@ std::string training_report_table(const TrainingReport& r) {
   o << "grid: " << r.grid.fits << " fits";
   if (r.grid.early_stop)
     o << ", " << r.grid.cells_skipped << " of " << r.grid.Cs.size() * r.grid.gammas.size()
-      << " cells skipped by early stop (a gamma row stops after " << r.grid.early_stop_patience
-      << " consecutive C more than " << fmt("%.3g", r.grid.early_stop_drop) << " below its best)";
+      << " cells skipped by early stop (a gamma row, once risen, stops after " << r.grid.early_stop_patience
+      << " consecutive C not above its best - " << fmt("%.3g", r.grid.early_stop_drop) << ")";
   o << "; " << r.grid.total_capped_fits() << " fits stopped at libsvm's iteration cap (not converged)";
   if (r.grid.total_capped_fits() > 0) {
     o << " in cells";

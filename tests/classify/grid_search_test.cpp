@@ -72,9 +72,10 @@ TEST(GridSearch, EarlyStopSkipsCellsExactlyWhereItsRuleSaysAndChangesNone) {
   EXPECT_GT(early.cells_skipped, 0) << "the data should make some row fall off";
   int skipped = 0;
   for (Eigen::Index g = 0; g < full.mean_score.cols(); ++g) {
-    // Replay the rule on the exhaustive row: after `patience` consecutive C more than `drop` below the best so
-    // far, every larger C is skipped.
-    double best = -1;
+    // Replay the rule on the exhaustive row: once the row has risen above its first cell, after `patience`
+    // consecutive C not better than the best so far by more than `-drop` (drop 0: no better), every larger C is
+    // skipped.
+    double best = -1, first = full.mean_score(0, g);
     int fallen = 0;
     bool stopped = false;
     for (Eigen::Index c = 0; c < full.mean_score.rows(); ++c) {
@@ -85,14 +86,76 @@ TEST(GridSearch, EarlyStopSkipsCellsExactlyWhereItsRuleSaysAndChangesNone) {
       }
       EXPECT_EQ(early.mean_score(c, g), full.mean_score(c, g)) << "C " << all.Cs[c] << " gamma " << all.gammas[g];
       const double v = full.mean_score(c, g);
+      fallen = best > first && v <= best - stop.early_stop_drop ? fallen + 1 : 0;
       best = std::max(best, v);
-      fallen = v < best - stop.early_stop_drop ? fallen + 1 : 0;
       stopped = fallen >= stop.early_stop_patience;
     }
   }
   EXPECT_EQ(early.cells_skipped, skipped);
   EXPECT_EQ(early.fits + skipped * static_cast<int>(splits.size()), full.fits);
   EXPECT_EQ(early.best_score, full.best_score);  // here the best cell sits before any fall-off
+}
+
+// The default search (precomputed kernel, early stop) against the exhaustive one (libsvm's RBF per fit, every cell)
+// on the paper's whole 13 x 13 grid, on separable classes and on overlapping ones: a cell with the exhaustive search's best
+// validation accuracy (on overlapping classes, where ties are rare, the same cell).
+void expect_same_choice(const Data& d, const char* what, bool same_cell) {
+  const Split holdout = stratified_shuffle_split(d.y, 1, 0.2, 7).front();
+  Eigen::MatrixXd Xa(static_cast<Eigen::Index>(holdout.train.size()), d.X.cols());
+  std::vector<int> ya;
+  for (std::size_t i = 0; i < holdout.train.size(); ++i) {
+    Xa.row(static_cast<Eigen::Index>(i)) = d.X.row(holdout.train[i]);
+    ya.push_back(d.y[static_cast<std::size_t>(holdout.train[i])]);
+  }
+  const auto splits = stratified_shuffle_split(ya, 5, 0.2, 8);
+  GridSearchOptions exhaustive;
+  exhaustive.jobs = 2;
+  exhaustive.precomputed_kernel = false;
+  exhaustive.early_stop = false;
+  GridSearchOptions ours;  // the defaults
+  ours.jobs = 2;
+  const GridSearchResult e = grid_search(Xa, ya, splits, exhaustive), o = grid_search(Xa, ya, splits, ours);
+  EXPECT_GT(o.cells_skipped, 0) << what << ": the default rule should skip cells here";
+  EXPECT_NEAR(o.best_score, e.best_score, 1e-12) << what;
+  // The cell it picks is one of the exhaustive search's best (its score there is the same best score).
+  EXPECT_NEAR(e.mean_score(o.best_c, o.best_gamma), e.best_score, 1e-12) << what;
+  if (same_cell) {
+    EXPECT_EQ(o.C(), e.C()) << what;
+    EXPECT_EQ(o.gamma(), e.gamma()) << what;
+  }
+}
+
+TEST(GridSearch, DefaultSearchPicksTheExhaustiveSearchsCell) {
+  // Separable: many cells reach accuracy 1; a row that dips and comes back may be stopped before the exhaustive
+  // search's first tie (C-major order), so only the score is the same, not necessarily the cell.
+  expect_same_choice(standardized(3, 25, 11, 0.15), "separable classes", false);
+  expect_same_choice(standardized(4, 25, 12, 0.6), "overlapping classes", true);
+}
+
+TEST(NestedCrossValidation, ParallelOuterFoldsGiveTheSequentialResult) {
+  const auto samples = testing::synthetic_samples(3, 14, 21, 8, 0.5);
+  FeatureSpec spec;
+  spec.l_max = 6;
+  spec.log_transform = true;
+  Eigen::MatrixXd X;
+  std::vector<int> y;
+  std::vector<std::string> names;
+  build_feature_matrix(samples, spec, X, y, names);
+  NestedCvOptions one;
+  one.outer_folds = 3;
+  one.repeats = 2;
+  one.inner_splits = 3;
+  one.grid.Cs = decade_grid(-1, 3);
+  one.grid.gammas = decade_grid(-3, 1);
+  one.grid.jobs = 1;
+  NestedCvOptions two = one;
+  two.grid.jobs = 2;
+  const NestedCvResult a = nested_cross_validation(X, y, one), b = nested_cross_validation(X, y, two);
+  ASSERT_EQ(a.scores.size(), 6u);
+  EXPECT_EQ(a.scores, b.scores);
+  EXPECT_EQ(a.chosen, b.chosen);
+  EXPECT_EQ(a.fits, b.fits);
+  EXPECT_EQ(a.cells_skipped, b.cells_skipped);
 }
 
 // Two classes drawn from one distribution: no boundary exists; at gamma 0.1, C = 1e10 libsvm's solver runs to its
