@@ -308,10 +308,21 @@ test('Models: metadata and the training report (heat map, confusion matrix, per-
     best: g.classList.contains('best') })));
   const grid = api.grid;
   assert.equal(cells.length, grid.C.length * grid.gamma.length);
+  // A null in the JSON is a cell the early stop did not evaluate: drawn grey with a dash, no number.
+  let skipped = 0;
   for (const c of cells) {
-    assert.equal(c.value, grid.mean_accuracy[c.row][c.col], `cell ${c.row},${c.col}`);
-    assert.equal(c.text, grid.mean_accuracy[c.row][c.col].toFixed(2), `cell ${c.row},${c.col} text`);
+    const expected = grid.mean_accuracy[c.row][c.col];
+    if (expected === null) {
+      skipped += 1;
+      assert.ok(Number.isNaN(c.value), `cell ${c.row},${c.col} is skipped but carries a value`);
+      assert.equal(c.text, '—', `cell ${c.row},${c.col} text`);
+      assert.equal(c.fill, '#eee', `cell ${c.row},${c.col} fill`);
+      continue;
+    }
+    assert.equal(c.value, expected, `cell ${c.row},${c.col}`);
+    assert.equal(c.text, expected.toFixed(2), `cell ${c.row},${c.col} text`);
   }
+  assert.equal(skipped, grid.mean_accuracy.flat().filter((v) => v === null).length);
   const best = cells.filter((c) => c.best);
   assert.deepEqual(best.map((c) => [grid.C[c.row], grid.gamma[c.col]]), [[grid.best_C, grid.best_gamma]]);
   assert.equal(best[0].value, grid.best_score);
