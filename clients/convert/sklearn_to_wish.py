@@ -46,6 +46,10 @@ from wish_client import describe_csv  # noqa: E402
 from wish_model_json import dumps, seal  # noqa: E402
 
 FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 2
+# Versions this module reads. 3 and 4 only add the optional novelty block (core/classify/novelty.hpp: 3 one
+# reference set, 4 per class), which a converted model does not carry, so reading them for their recipe is safe;
+# what this module writes stays version 2 (no novelty block: the model answers "novel": null).
+READABLE_VERSIONS = (1, 2, 3, 4)
 
 #: The descriptor settings come from a model file written by `wish train` (by default the repository's bundled
 #: model), never from a copy of the C++ defaults that could drift: the model file lists every setting.
@@ -204,8 +208,9 @@ def read_model(path: str | Path, check_seal: bool = True) -> dict[str, Any]:
     when merely copying settings out of such a file.
     """
     doc = json.loads(Path(path).read_text(encoding="utf-8"))
-    if doc.get("format") != FORMAT_NAME or doc.get("format_version") not in (1, FORMAT_VERSION):
-        raise ValueError(f"{path}: not a {FORMAT_NAME} version 1 or {FORMAT_VERSION} file")
+    if doc.get("format") != FORMAT_NAME or doc.get("format_version") not in READABLE_VERSIONS:
+        raise ValueError(f"{path}: not a {FORMAT_NAME} file of version {', '.join(map(str, READABLE_VERSIONS))}"
+                         f" (format {doc.get('format')!r}, version {doc.get('format_version')!r})")
     if check_seal and seal(doc["payload"]) != doc.get("payload_sha256"):
         raise ValueError(f"{path}: payload_sha256 does not match the content")
     if doc["format_version"] == 1:  # the C++ loader's migration (model_file.cpp migrate_v1_payload)
