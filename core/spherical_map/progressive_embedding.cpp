@@ -211,14 +211,7 @@ class SphereEmbedding {
       if (!(n.dot(p[0] + p[1] + p[2]) > 0)) return std::numeric_limits<double>::infinity();
       const double longest = std::max({(p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm()});
       if (twice_area < floor * std::sqrt(longest)) return std::numeric_limits<double>::infinity();
-      const int a = mesh_.faces()(f, 0), b = mesh_.faces()(f, 1), c = mesh_.faces()(f, 2);
-      const Eigen::Vector3d xa = x_.row(a).transpose(), xb = x_.row(b).transpose(), xc = x_.row(c).transpose();
-      const double surface_area = std::max(0.5 * (xb - xa).cross(xc - xa).norm(), area_floor_);
-      // Σ_k d_k |X_i − X_j|², corner k opposite the edge (i, j).
-      const double s = (p[1] - p[0]).dot(p[2] - p[0]) * (xb - xc).squaredNorm() +
-                       (p[2] - p[1]).dot(p[0] - p[1]) * (xc - xa).squaredNorm() +
-                       (p[0] - p[2]).dot(p[1] - p[2]) * (xa - xb).squaredNorm();
-      e += surface_area * s / (2 * twice_area * twice_area);
+      e += stretch_of(f, p, twice_area);
     }
     return e;
   }
@@ -356,21 +349,23 @@ class SphereEmbedding {
   }
   double face_energy(int f) const {
     const int v = mesh_.faces()(f, 0);
-    double e = 0;
-    // star_energy over one face: reuse it through a one-face view would need a second loop; compute directly.
     Eigen::Vector3d p[3];
     corners(f, v, u_.row(v).transpose(), p);
-    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double twice_area = n.norm();
+    const double twice_area = (p[1] - p[0]).cross(p[2] - p[0]).norm();
     if (!(twice_area > 0)) return std::numeric_limits<double>::infinity();
+    return stretch_of(f, p, twice_area);
+  }
+
+  // The stretch energy of face f with its sphere corners p (twice_area = |(p1 − p0) × (p2 − p0)| > 0): the
+  // surface face's area times Σ_k d_k |X_i − X_j|² / (2 · twice_area²), corner k opposite the edge (i, j).
+  double stretch_of(int f, const Eigen::Vector3d (&p)[3], double twice_area) const {
     const int a = mesh_.faces()(f, 0), b = mesh_.faces()(f, 1), c = mesh_.faces()(f, 2);
     const Eigen::Vector3d xa = x_.row(a).transpose(), xb = x_.row(b).transpose(), xc = x_.row(c).transpose();
     const double surface_area = std::max(0.5 * (xb - xa).cross(xc - xa).norm(), area_floor_);
     const double s = (p[1] - p[0]).dot(p[2] - p[0]) * (xb - xc).squaredNorm() +
                      (p[2] - p[1]).dot(p[0] - p[1]) * (xc - xa).squaredNorm() +
                      (p[0] - p[2]).dot(p[1] - p[2]) * (xa - xb).squaredNorm();
-    e += surface_area * s / (2 * twice_area * twice_area);
-    return e;
+    return surface_area * s / (2 * twice_area * twice_area);
   }
 
   const ProgressiveMesh& mesh_;
