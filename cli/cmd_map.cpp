@@ -89,7 +89,7 @@ CommandRunner setup_map(CLI::App& sub) {
       ->check(CLI::PositiveNumber);
   sub.add_option("--solver", args->solver, "cholmod (default) or eigen")->check(CLI::IsMember({"cholmod", "eigen"}));
   sub.add_flag("--filtered", args->filtered, "Low-pass filtered Willmore flow (noisy segmentation meshes)");
-  sub.add_flag("--no-fallback", args->no_fallback, "Do not try more steps / filtered flow / cMCF / linear method on failure");
+  sub.add_flag("--no-fallback", args->no_fallback, "Do not try more steps / other flows / the linear map / the progressive embedding (the last resort) on failure");
   sub.add_option("--timeout", args->timeout, "Time limit in seconds (0: none)")->check(CLI::NonNegativeNumber);
   sub.add_flag("--json", args->json, "Print the report as JSON");
   return [args]() -> int {
