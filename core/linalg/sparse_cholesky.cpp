@@ -5,11 +5,11 @@
 
 #include <algorithm>
 #include <stdexcept>
-
-#include "core/common/stage_profile.hpp"
 #include <type_traits>
 
 #include <Eigen/SparseCholesky>
+
+#include "core/common/stage_profile.hpp"
 
 namespace wish::linalg {
 
