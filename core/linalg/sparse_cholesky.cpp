@@ -1,7 +1,6 @@
 #include "core/linalg/sparse_cholesky.hpp"
 
 #include <cholmod.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -10,6 +9,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "core/common/stage_profile.hpp"
+#include "core/linalg/serial_openmp.hpp"
 
 namespace wish::linalg {
 
@@ -32,27 +32,9 @@ constexpr int cholmod_xtype() {
 // threshold)`: a clause that overrides OMP_NUM_THREADS and omp_set_num_threads(). On a 2-core machine every large
 // supernode then woke 3 helper threads (per worker!) for a memory-bound loop: 40 % of a Willmore map's samples were
 // thread wake-ups, and the nucleus-1 Dirac factorisation took 0.19 s instead of 0.07 s (bench/dirac_factor_bench).
-// With dyn-var on, the runtime may give a region fewer threads than its clause asks for, and libgomp caps it at
-// nthreads-var; both ICVs belong to the calling thread, so this guard makes CHOLMOD's OpenMP serial for this call only
-// and restores the caller's settings. Parallelism inside a factorisation comes from the BLAS (threads set by the
-// caller, see blas_info.hpp), which is where the flops are.
-class SerialCholmodOpenMp {
- public:
-  SerialCholmodOpenMp() : dynamic_(omp_get_dynamic()), threads_(omp_get_max_threads()) {
-    omp_set_dynamic(1);
-    omp_set_num_threads(1);
-  }
-  ~SerialCholmodOpenMp() {
-    omp_set_num_threads(threads_);
-    omp_set_dynamic(dynamic_);
-  }
-  SerialCholmodOpenMp(const SerialCholmodOpenMp&) = delete;
-  SerialCholmodOpenMp& operator=(const SerialCholmodOpenMp&) = delete;
-
- private:
-  int dynamic_;
-  int threads_;
-};
+// Every CHOLMOD call therefore runs inside a SerialOpenMpScope (serial_openmp.hpp): its parallel regions run inline on
+// the calling thread, without the runtime's per-region system calls. Parallelism inside a factorisation comes from
+// the BLAS (threads set by the caller, see blas_info.hpp), which is where the flops are.
 
 // A no-copy CHOLMOD view of an Eigen compressed column-major matrix; stype −1: the lower triangle is used and any
 // upper-triangle entries are ignored.
@@ -77,7 +59,7 @@ cholmod_sparse view_lower(const Eigen::SparseMatrix<Scalar>& a) {
 }  // namespace
 
 std::vector<int> metis_ordering(const Eigen::SparseMatrix<double>& pattern) {
-  const SerialCholmodOpenMp serial;
+  const SerialOpenMpScope serial;
   cholmod_common c;
   cholmod_start(&c);
   c.print = 0;
@@ -164,7 +146,7 @@ bool SparseCholeskyT<Scalar>::analyze(const Matrix& a) {
   if (options_.backend == CholeskyBackend::EigenSimplicial) {
     impl_->ldlt.analyzePattern(a);
   } else {
-    const SerialCholmodOpenMp serial;
+    const SerialOpenMpScope serial;
     if (impl_->factor) cholmod_free_factor(&impl_->factor, &impl_->common);
     cholmod_sparse s = view_lower(a);
     if (!options_.permutation.empty() && options_.permutation.size() == static_cast<size_t>(a.rows()))
@@ -206,7 +188,7 @@ bool SparseCholeskyT<Scalar>::factorize(const Matrix& a, double shift) {
       return false;
     }
   } else {
-    const SerialCholmodOpenMp serial;
+    const SerialOpenMpScope serial;
     cholmod_sparse s = view_lower(a);
     double beta[2] = {shift, 0.0};
     const int ok = cholmod_factorize_p(&s, beta, nullptr, 0, impl_->factor, &impl_->common);
@@ -226,7 +208,7 @@ typename SparseCholeskyT<Scalar>::Dense SparseCholeskyT<Scalar>::solve(const Den
   if (!factorized_) throw std::logic_error("SparseCholesky::solve without a successful factorisation");
   const profile::ScopedStage stage(std::is_same_v<Scalar, double> ? "cholesky.solve (real)" : "cholesky.solve (complex)");
   if (options_.backend == CholeskyBackend::EigenSimplicial) return impl_->ldlt.solve(b);
-  const SerialCholmodOpenMp serial;
+  const SerialOpenMpScope serial;
   cholmod_dense db{};
   db.nrow = static_cast<size_t>(b.rows());
   db.ncol = static_cast<size_t>(b.cols());
@@ -249,7 +231,7 @@ void SparseCholeskyT<Scalar>::release_values() {
   // Eigen's SimplicialLDLT cannot drop its values and keep its analysis: there the factor only becomes unusable.
   if (options_.backend == CholeskyBackend::EigenSimplicial) return;
   // Back to a symbolic factor of the same kind (supernodal stays supernodal): values freed, structure kept.
-  const SerialCholmodOpenMp serial;
+  const SerialOpenMpScope serial;
   cholmod_change_factor(CHOLMOD_PATTERN, impl_->factor->is_ll, impl_->factor->is_super, 0, 0, impl_->factor,
                         &impl_->common);
 }
