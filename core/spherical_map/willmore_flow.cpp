@@ -23,6 +23,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Above this many vertices the Dirac and the Poisson factor are never alive at once: each step frees one's values
+// before the other is factored (a 160K-vertex map stays under 1 GiB; the Dirac factor alone is ~0.5 GiB there). At
+// or below it both are kept from step to step (nucleus-1, 10.8K vertices: 34 MiB + 3 MiB) and each refactorisation
+// writes into the storage of the last: freed and reallocated, its pages were faulted in anew every step — 12 % of a
+// nucleus-1 map's CPU samples in the kernel's page-fault handler (perf record), and 2–3 ms of zeroing per MiB on a
+// virtual machine.
+constexpr Eigen::Index kFreeFactorsAboveVertices = 40000;
+
 // The Dirac eigenproblem in either storage (dirac_operator.hpp); the pattern and the symbolic factorisation are
 // built once, with the context's METIS ordering of the vertex graph expanded to the blocks (cheaper than ordering
 // the big graph).
@@ -258,7 +266,7 @@ class WillmoreRun {
       const profile::ScopedStage stage("willmore.eigen (factor + inverse iteration)");
       return dirac_.solve(mean_diag, eigen_options_, lambda_);
     }();
-    dirac_.release_factor();  // one numeric factor alive at a time: the Poisson one is next
+    if (release_factors_) dirac_.release_factor();  // one numeric factor alive at a time: the Poisson one is next
     rec.factor_seconds = eig.factor_seconds;
     rec.eigen_seconds = eig.solve_seconds;
     rec.eigen_residual = eig.residual;
@@ -311,7 +319,7 @@ class WillmoreRun {
     pin_vertex(state_.laplacian, 0, pinned);
     if (!(poisson_solver_.analyze(pinned) && poisson_solver_.factorize(pinned))) return false;
     next.x = poisson_solver_.solve(omega);
-    poisson_solver_.release_values();
+    if (release_factors_) poisson_solver_.release_values();
     normalise_area_and_centre(next.x, faces_);
     update_state(faces_, laplacian_, next);
     return true;
@@ -382,6 +390,7 @@ class WillmoreRun {
   DiracSystem dirac_;
   linalg::SparseCholesky poisson_solver_, filter_solver_;
   EigenSolveOptions eigen_options_;
+  const bool release_factors_ = context_.vertex_count() > kFreeFactorsAboveVertices;
   Eigen::SparseMatrix<double> filter_matrix_;
   Eigen::VectorXd lambda_;
   SurfaceState state_;
