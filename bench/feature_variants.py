@@ -97,14 +97,14 @@ def features(rows, variant, lmax):
     return table[variant]
 
 
-def nested_cv(X, y, n_xi, variant, jobs, c_range, gamma_range, seed=45):
+def nested_cv(X, y, n_xi, variant, jobs, c_range, gamma_range, repeats=2, seed=45):
     grid = {"svc__C": 10.0 ** np.arange(c_range[0], c_range[1] + 1),
             "svc__gamma": 10.0 ** np.arange(gamma_range[0], gamma_range[1] + 1)}
     balance = variant.endswith("_blk")
     if variant.endswith("_w"):
         grid["blk__w"] = [0.25, 0.5, 1.0, 2.0, 4.0]
     pipe = Pipeline([("z", StandardScaler()), ("blk", BlockWeight(n_xi=n_xi, balance=balance)), ("svc", SVC(kernel="rbf"))])
-    outer = RepeatedStratifiedKFold(n_splits=min(5, np.bincount(y).min()), n_repeats=2, random_state=seed)
+    outer = RepeatedStratifiedKFold(n_splits=min(5, np.bincount(y).min()), n_repeats=repeats, random_state=seed)
     scores = []
     for train, test in outer.split(X, y):
         inner = StratifiedShuffleSplit(n_splits=5, test_size=0.2, random_state=seed)
@@ -121,6 +121,7 @@ def main():
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--lmax", default="")
     ap.add_argument("--methods", default="")
+    ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--c-range", type=int, nargs=2, default=[-2, 10])
     ap.add_argument("--gamma-range", type=int, nargs=2, default=[-9, 3])
     a = ap.parse_args()
@@ -137,8 +138,9 @@ def main():
         cells = []
         for v in variants:
             X, n_xi = features(rows, v, lmax)
-            m, s = nested_cv(X, y, n_xi, v, a.jobs, a.c_range, a.gamma_range)
+            m, s = nested_cv(X, y, n_xi, v, a.jobs, a.c_range, a.gamma_range, a.repeats)
             cells.append(f"{m:.1f} ± {s:.1f}")
+            print(dataset, method, lmax, v, cells[-1], file=sys.stderr, flush=True)
         print(f"| {dataset} | {method} | {nu} | {lmax} | {len(rows)} | " + " | ".join(cells) + " |", flush=True)
 
 
