@@ -22,6 +22,8 @@
 // "dem" the density-equalising correction of the SAME conformal map (rows "cmcf+dem", ...; its CPU seconds and
 // area distortion before/after are summarised per row). Default: none.
 // --log off|on|both, --scale none|xi1|both: restrict the feature grid (default both, both).
+// --dump-descriptors OUT.csv: also write every mapped mesh's raw descriptor (one row per mesh, method, nu and Lmax:
+// xi(0..Lmax) before the feature pipeline, then the global descriptors), to study feature variants offline.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -147,7 +149,7 @@ int main(int argc, char** argv) {
   int per_class = 0, jobs = 2, repeats = 2, folds = 5;
   int c_range[2] = {-1, 5}, gamma_range[2] = {-5, 1};
   double max_k_p99 = SphericalMapOptions{}.verification.max_conformal_p99, map_seconds = 120;
-  std::string csv_out;
+  std::string csv_out, dump_out;
   bool paired = false;
   double flow_budget = SphericalMapOptions{}.flow_budget_seconds;
   double chain_budget = SphericalMapOptions{}.chain_budget_seconds;
@@ -190,6 +192,7 @@ int main(int argc, char** argv) {
     } else if (a == "--max-k-p99") max_k_p99 = std::stod(next());
     else if (a == "--map-seconds") map_seconds = std::stod(next());
     else if (a == "--csv") csv_out = next();
+    else if (a == "--dump-descriptors") dump_out = next();
     else if (a == "--paired") paired = true;
     else if (a == "--flow-budget") flow_budget = std::stod(next());
     else if (a == "--chain-budget") chain_budget = std::stod(next());
@@ -225,6 +228,16 @@ int main(int argc, char** argv) {
   if (!csv_out.empty()) {
     csv.open(csv_out);
     csv << "dataset,method,n,nu_factor,lmax,scale,log,family,accuracy_mean,accuracy_std,folds\n";
+  }
+
+  std::ofstream dump;
+  if (!dump_out.empty()) {
+    dump.open(dump_out);
+    dump.precision(17);
+    dump << "dataset,method,file,label,nu_factor,lmax";
+    for (int l = 0; l <= lmax_top; ++l) dump << ",xi_" << l;
+    for (const auto& g : global_descriptor_names()) dump << ",g_" << g;
+    dump << "\n";
   }
 
   for (const auto& dir : data_dirs) {
@@ -315,7 +328,24 @@ int main(int argc, char** argv) {
       std::lock_guard lock(io);
       std::fprintf(stderr, "[%d/%zu, %.0f s] %s\n", n, items.size(), seconds_since(t_maps), line.c_str());
     });
-    (void)lmax_top;
+    if (dump.is_open())
+      for (const auto& r : records)
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+          if (!r.refused.empty() || !r.methods[m].ok) continue;
+          for (std::size_t a = 0; a < nu_factors.size(); ++a)
+            for (std::size_t b = 0; b < lmaxes.size(); ++b) {
+              const Eigen::VectorXd& xi = r.methods[m].xi[a * lmaxes.size() + b];
+              dump << dataset << "," << methods[m] << "," << r.file << "," << r.label << "," << nu_factors[a] << ","
+                   << lmaxes[b];
+              for (int l = 0; l <= lmax_top; ++l) {
+                dump << ",";
+                if (l < xi.size()) dump << xi(l);
+              }
+              for (Eigen::Index g = 0; g < r.global.size(); ++g) dump << "," << r.global(g);
+              dump << "\n";
+            }
+        }
+    dump.flush();
 
     // ---- map summary per method ----
     int refused = 0;
