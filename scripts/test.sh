@@ -47,12 +47,15 @@ bash scripts/test-docker.sh --build-only >build/docker-prebuild.log 2>&1 &
 docker_prebuild_pid=$!
 
 step "sanitizer build (ASan + UBSan)"
-cmake -G "$(generator build/asan)" -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DWISH_SANITIZE=ON \
+# -g1: line tables only, all a sanitizer report's stack needs (file:line of every frame); full debug information
+# (-g) made the objects 3-4 times larger and a heavy file's compile a third slower (docs/benchmarks.md).
+cmake -G "$(generator build/asan)" -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DWISH_SANITIZE=ON \
       -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
 
 step "libFuzzer targets"
 CC=clang CXX=clang++ cmake -G "$(generator build/fuzz)" -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
       -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
       -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF -DWISH_BUILD_TESTS=ON >/dev/null
 cmake --build build/fuzz -j "$jobs" --target wish_fuzzers
