@@ -34,10 +34,12 @@ trap 'if kill -0 "$docker_prebuild_pid" 2>/dev/null; then pkill -TERM -P "$docke
 step "release build"
 # Through ccache into .ccache/ (the image's build reuses it): paths relative to the checkout, and the sloppiness the
 # precompiled header needs (without it ccache caches nothing here: every file includes the precompiled header).
+# ccache hashes the locale variables too: the build runs in the locale of the image's build stage (LANG=C.UTF-8).
 export CCACHE_DIR="$root/.ccache" CCACHE_BASEDIR="$root" CCACHE_SLOPPINESS=pch_defines,time_macros CCACHE_MAXSIZE=2G
-cmake -G "$(generator build/release)" -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DWISH_SANITIZE=OFF \
-      -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
-cmake --build build/release -j "$jobs"
+image_locale=(env -u LC_ALL -u LC_CTYPE -u LC_MESSAGES LANG=C.UTF-8)
+"${image_locale[@]}" cmake -G "$(generator build/release)" -S . -B build/release -DCMAKE_BUILD_TYPE=Release \
+      -DWISH_SANITIZE=OFF -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
+"${image_locale[@]}" cmake --build build/release -j "$jobs"
 
 step "container images: building in the background (build/docker-prebuild.log)"
 if wait "$docker_prebuild_pid"; then cat build/docker-prebuild.log
