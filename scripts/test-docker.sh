@@ -12,17 +12,17 @@
 # When no engine can start, it says why and fails. Containers and images it made carry the names wish-test-*.
 #   WISH_DOCKER_TESTS="test_container"   run only these test modules
 #   WISH_IMAGE=wish:test                 the tag built and tested
-#   --deps-only                          steps 1-2, the image's dependency stage (`--target deps`: apt's downloads) and
-#                                        the nginx image (scripts/test.sh runs this in the background from the start, so
-#                                        debootstrap's and apt's downloads overlap the host builds)
-#   --build-only                         steps 1-3 only (scripts/test.sh runs this in the background once its Release
-#                                        build has filled .ccache/, which the image's compile reuses: docker/Dockerfile;
-#                                        the later full run then finds every layer in the build cache)
+#   --build-only                         steps 1-3 only (the later full run then finds every layer in the build cache)
+#   --prebuild-after FILE                steps 1-3 for scripts/test.sh, in the background from its start: the base image,
+#                                        the image's dependency stage (`--target deps`: apt's downloads) and the nginx
+#                                        image at once, overlapping the host builds; the image itself once FILE exists
+#                                        (test.sh makes it when its Release build has filled .ccache/, which the image's
+#                                        compile reuses: docker/Dockerfile)
 set -euo pipefail
 mode=all
 case "${1:-}" in
-  --deps-only) mode=deps ;;
   --build-only) mode=build ;;
+  --prebuild-after) mode=prebuild; marker=${2:?--prebuild-after needs a file} ;;
 esac
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -50,7 +50,7 @@ build_nginx_image() {
 }
 nginx_image=${WISH_NGINX_IMAGE:-wish-nginx:test}
 
-if [[ $mode == deps ]]; then
+if [[ $mode == prebuild ]]; then
   # The stage copies scripts/install-deps.sh only: a context of that one file (the checkout's .ccache/ is being
   # written by the host build meanwhile); the full build later finds the layer by the file's content.
   t0=$SECONDS
@@ -66,7 +66,8 @@ if [[ $mode == deps ]]; then
   rm -rf "$context"
   echo "test-docker: the dependency stage of docker/Dockerfile built in $((SECONDS - t0)) s"
   build_nginx_image
-  exit 0
+  while [[ ! -e "$marker" ]]; do sleep 5; done
+  mode=build
 fi
 
 t0=$SECONDS

@@ -18,14 +18,15 @@ generator() { sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$1/CMakeCache.txt" 2>/de
 step "dependencies"
 bash scripts/install-deps.sh --test
 
-# The container images in the background, in two parts. From here on: the base image and the image's dependency
-# stage (debootstrap's and apt's downloads, minutes of network wait) overlap the host's Release build. After that
-# build: the image itself, whose compile takes the host's objects from the compiler cache .ccache/ (sent in the build
-# context; docker/Dockerfile) instead of compiling the libraries a fourth time, beside the sanitizer build. The
-# last step re-runs the build from docker's cache.
+# The container images in the background from here on: the base image and the image's dependency stage
+# (debootstrap's and apt's downloads, minutes of network wait) overlap the host's Release build; the image itself
+# follows that build, its compile taking the host's objects from the compiler cache .ccache/ (sent in the build
+# context; docker/Dockerfile) instead of compiling the libraries a fourth time. The last step re-runs the build from
+# docker's cache.
 mkdir -p build
-step "container images: the base and the dependency stage in the background (build/docker-prebuild.log)"
-bash scripts/test-docker.sh --deps-only >build/docker-prebuild.log 2>&1 &
+rm -f build/release-build.done
+step "container images: building in the background (build/docker-prebuild.log)"
+bash scripts/test-docker.sh --prebuild-after build/release-build.done >build/docker-prebuild.log 2>&1 &
 docker_prebuild_pid=$!
 # On an early failure, stop it (its children first: bash runs its EXIT trap, which stops its dockerd, only after
 # the foreground docker client is gone).
@@ -41,12 +42,7 @@ image_locale=(env -u LC_ALL -u LC_CTYPE -u LC_MESSAGES LANG=C.UTF-8)
       -DWISH_SANITIZE=OFF -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
 "${image_locale[@]}" cmake --build build/release -j "$jobs"
 
-step "container images: building in the background (build/docker-prebuild.log)"
-if wait "$docker_prebuild_pid"; then cat build/docker-prebuild.log
-else echo "the base image or the dependency stage failed (the image build reports again):"; tail -n 20 build/docker-prebuild.log
-fi
-bash scripts/test-docker.sh --build-only >build/docker-prebuild.log 2>&1 &
-docker_prebuild_pid=$!
+touch build/release-build.done   # the background job builds the image now
 
 step "sanitizer build (ASan + UBSan)"
 # -g1: line tables only, all a sanitizer report's stack needs (file:line of every frame); full debug information
@@ -90,8 +86,8 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 step "Slurm batch runner on a single-node Slurm (scripts/test-slurm.sh)"
 WISH_BIN="$root/build/release/cli/wish" bash scripts/test-slurm.sh
 
-step "container images: the background build (scripts/test-docker.sh --build-only)"
-if wait "$docker_prebuild_pid"; then tail -n 4 build/docker-prebuild.log
+step "container images: the background build (scripts/test-docker.sh --prebuild-after)"
+if wait "$docker_prebuild_pid"; then tail -n 5 build/docker-prebuild.log
 else echo "background image build failed (the next step builds again and reports):"; tail -n 20 build/docker-prebuild.log
 fi
 
