@@ -13,6 +13,7 @@ runtime_build=(
   libzip-dev libzstd-dev libblosc-dev   # OME-Zarr label images: zip stores, zstd and blosc chunks
   libgtest-dev libgmock-dev libbenchmark-dev
   python3
+  ccache   # docker/Dockerfile compiles through it: the image reuses the objects scripts/test.sh compiled on the host
 )
 test_extra=(
   clang libclang-rt-14-dev

@@ -12,12 +12,18 @@
 # When no engine can start, it says why and fails. Containers and images it made carry the names wish-test-*.
 #   WISH_DOCKER_TESTS="test_container"   run only these test modules
 #   WISH_IMAGE=wish:test                 the tag built and tested
-#   --build-only                         steps 1-3 only (scripts/test.sh runs this in the background from the start, so
-#                                        debootstrap's and apt's downloads overlap the host builds; the later full
-#                                        run then finds every layer in the build cache)
+#   --build-only                         steps 1-3 only (the later full run then finds every layer in the build cache)
+#   --prebuild-after FILE                steps 1-3 for scripts/test.sh, in the background from its start: the base image,
+#                                        the image's dependency stage (`--target deps`: apt's downloads) and the nginx
+#                                        image at once, overlapping the host builds; the image itself once FILE exists
+#                                        (test.sh makes it when its Release build has filled .ccache/, which the image's
+#                                        compile reuses: docker/Dockerfile)
 set -euo pipefail
-build_only=0
-[[ "${1:-}" == "--build-only" ]] && build_only=1
+mode=all
+case "${1:-}" in
+  --build-only) mode=build ;;
+  --prebuild-after) mode=prebuild; marker=${2:?--prebuild-after needs a file} ;;
+esac
 cd "$(dirname "$0")/.."
 root=$PWD
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
@@ -32,6 +38,38 @@ if ! docker_engine_up; then
 fi
 docker_base_image
 
+build_nginx_image() {
+  DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMAGE" -f docker/nginx/Dockerfile \
+    -t "$nginx_image" docker/nginx >"${TMPDIR:-/tmp}/wish-docker-build-nginx.log" 2>&1 || {
+    echo "test-docker: FAILED: docker build of docker/nginx; the end of the log:" >&2
+    tail -n 20 "${TMPDIR:-/tmp}/wish-docker-build-nginx.log" >&2
+    exit 1
+  }
+  echo "test-docker: image $nginx_image built; size $(docker image inspect -f '{{.Size}}' "$nginx_image" |
+    awk '{printf "%.1f MB", $1 / 1e6}')"
+}
+nginx_image=${WISH_NGINX_IMAGE:-wish-nginx:test}
+
+if [[ $mode == prebuild ]]; then
+  # The stage copies scripts/install-deps.sh only: a context of that one file (the checkout's .ccache/ is being
+  # written by the host build meanwhile); the full build later finds the layer by the file's content.
+  t0=$SECONDS
+  context=$(mktemp -d "${TMPDIR:-/tmp}/wish-deps-context.XXXXXX")
+  mkdir "$context/scripts" && cp -p scripts/install-deps.sh "$context/scripts/"   # same mode: same layer
+  DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMAGE" --target deps \
+    -f docker/Dockerfile "$context" >"${TMPDIR:-/tmp}/wish-docker-build-deps.log" 2>&1 || {
+    rm -rf "$context"
+    echo "test-docker: FAILED: docker build --target deps; the end of the log:" >&2
+    tail -n 40 "${TMPDIR:-/tmp}/wish-docker-build-deps.log" >&2
+    exit 1
+  }
+  rm -rf "$context"
+  echo "test-docker: the dependency stage of docker/Dockerfile built in $((SECONDS - t0)) s"
+  build_nginx_image
+  while [[ ! -e "$marker" ]]; do sleep 5; done
+  mode=build
+fi
+
 t0=$SECONDS
 echo "test-docker: building $image from docker/Dockerfile (base $WISH_BASE_IMAGE)"
 DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMAGE" --build-arg JOBS=2 \
@@ -41,20 +79,13 @@ DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMA
   exit 1
 }
 build_seconds=$((SECONDS - t0))
+grep -m1 '^ccache:' "${TMPDIR:-/tmp}/wish-docker-build.log" | sed 's/^/test-docker: the compile in the image: /' || true
 size=$(docker image inspect -f '{{.Size}}' "$image")
 echo "test-docker: image $image built in ${build_seconds} s; size $(awk -v s="$size" 'BEGIN {printf "%.1f MB", s / 1e6}')" \
      "(${size} bytes; base $(docker image inspect -f '{{.Size}}' "$WISH_BASE_IMAGE" | awk '{printf "%.1f MB", $1 / 1e6}'))"
-nginx_image=${WISH_NGINX_IMAGE:-wish-nginx:test}
-DOCKER_BUILDKIT=0 docker build --network host --build-arg "DEBIAN=$WISH_BASE_IMAGE" -f docker/nginx/Dockerfile \
-  -t "$nginx_image" docker/nginx >"${TMPDIR:-/tmp}/wish-docker-build-nginx.log" 2>&1 || {
-  echo "test-docker: FAILED: docker build of docker/nginx; the end of the log:" >&2
-  tail -n 20 "${TMPDIR:-/tmp}/wish-docker-build-nginx.log" >&2
-  exit 1
-}
-echo "test-docker: image $nginx_image built; size $(docker image inspect -f '{{.Size}}' "$nginx_image" |
-  awk '{printf "%.1f MB", $1 / 1e6}')"
+build_nginx_image
 
-if ((build_only)); then exit 0; fi
+if [[ $mode == build ]]; then exit 0; fi
 
 modules=${WISH_DOCKER_TESTS:-"test_container test_nginx_cap test_scale_out_containers"}
 cd tests/deploy

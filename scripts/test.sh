@@ -18,27 +18,42 @@ generator() { sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$1/CMakeCache.txt" 2>/de
 step "dependencies"
 bash scripts/install-deps.sh --test
 
-# The container images are built in the background from here on: debootstrap's and apt's downloads (minutes of
-# network wait) overlap the host builds instead of adding to them. The last step re-runs the build from its cache.
+# The container images in the background from here on: the base image and the image's dependency stage
+# (debootstrap's and apt's downloads, minutes of network wait) overlap the host's Release build; the image itself
+# follows that build, its compile taking the host's objects from the compiler cache .ccache/ (sent in the build
+# context; docker/Dockerfile) instead of compiling the libraries a fourth time. The last step re-runs the build from
+# docker's cache.
 mkdir -p build
+rm -f build/release-build.done
 step "container images: building in the background (build/docker-prebuild.log)"
-bash scripts/test-docker.sh --build-only >build/docker-prebuild.log 2>&1 &
+bash scripts/test-docker.sh --prebuild-after build/release-build.done >build/docker-prebuild.log 2>&1 &
 docker_prebuild_pid=$!
 # On an early failure, stop it (its children first: bash runs its EXIT trap, which stops its dockerd, only after
 # the foreground docker client is gone).
 trap 'if kill -0 "$docker_prebuild_pid" 2>/dev/null; then pkill -TERM -P "$docker_prebuild_pid"; kill -TERM "$docker_prebuild_pid"; wait "$docker_prebuild_pid" 2>/dev/null; fi' EXIT
 
 step "release build"
-cmake -G "$(generator build/release)" -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DWISH_SANITIZE=OFF >/dev/null
-cmake --build build/release -j "$jobs"
+# Through ccache into .ccache/ (the image's build reuses it): paths relative to the checkout, and the sloppiness the
+# precompiled header needs (without it ccache caches nothing here: every file includes the precompiled header).
+# ccache hashes the locale variables too: the build runs in the locale of the image's build stage (LANG=C.UTF-8).
+export CCACHE_DIR="$root/.ccache" CCACHE_BASEDIR="$root" CCACHE_SLOPPINESS=pch_defines,time_macros CCACHE_MAXSIZE=2G
+image_locale=(env -u LC_ALL -u LC_CTYPE -u LC_MESSAGES LANG=C.UTF-8)
+"${image_locale[@]}" cmake -G "$(generator build/release)" -S . -B build/release -DCMAKE_BUILD_TYPE=Release \
+      -DWISH_SANITIZE=OFF -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
+"${image_locale[@]}" cmake --build build/release -j "$jobs"
+
+touch build/release-build.done   # the background job builds the image now
 
 step "sanitizer build (ASan + UBSan)"
-cmake -G "$(generator build/asan)" -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DWISH_SANITIZE=ON \
+# -g1: line tables only, all a sanitizer report's stack needs (file:line of every frame); full debug information
+# (-g) made the objects 3-4 times larger and a heavy file's compile a third slower (docs/benchmarks.md).
+cmake -G "$(generator build/asan)" -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DWISH_SANITIZE=ON \
       -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
 
 step "libFuzzer targets"
 CC=clang CXX=clang++ cmake -G "$(generator build/fuzz)" -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
       -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
       -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF -DWISH_BUILD_TESTS=ON >/dev/null
 cmake --build build/fuzz -j "$jobs" --target wish_fuzzers
@@ -71,8 +86,8 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 step "Slurm batch runner on a single-node Slurm (scripts/test-slurm.sh)"
 WISH_BIN="$root/build/release/cli/wish" bash scripts/test-slurm.sh
 
-step "container images: the background build (scripts/test-docker.sh --build-only)"
-if wait "$docker_prebuild_pid"; then tail -n 4 build/docker-prebuild.log
+step "container images: the background build (scripts/test-docker.sh --prebuild-after)"
+if wait "$docker_prebuild_pid"; then tail -n 5 build/docker-prebuild.log
 else echo "background image build failed (the next step builds again and reports):"; tail -n 20 build/docker-prebuild.log
 fi
 
