@@ -281,6 +281,63 @@ class SphereEmbedding {
     return true;
   }
 
+  // Re-inserts v (just split off u) together with u inside the kernel K of u's star BEFORE the split (the polygon
+  // P of u's old link; c is K's centroid): any point of K sees every edge of P, so u and v both in K leave every
+  // face of the star with one corner on P positively oriented, and only the two faces (u, v, a), (v, u, b) that the
+  // split restored (a, b: `apexes`) depend on how u and v sit: they are placed on the line through c that bisects
+  // the angle a c b (it separates a and b), at ± s from c. Every face is then positively oriented and P is tiled
+  // once (a triangulated disk with a simple boundary and no inverted face is embedded). Unlike v in its own kernel
+  // — a wedge with apex at u when v's faces took a thin sector of u's star, where the two restored faces are
+  // slivers with an area many orders below their surface share (measured on the 3-turn coil: sphere areas 1e-7
+  // against a surface share 1e-1 at 72 vertices, which no later single-vertex move undid) — this splits u's
+  // region between u and v. Of the offsets s that pass the height margin, the one of lowest stretch energy of the
+  // two stars is kept; false (positions unchanged) when none passes.
+  bool place_pair(int v, int u, const Eigen::Vector3d& c, const std::vector<int>& apexes, double min_height) {
+    if (apexes.size() != 2) return false;
+    const Eigen::Vector3d a = u_.row(apexes[0]).transpose(), b = u_.row(apexes[1]).transpose();
+    const auto tangent = [&](const Eigen::Vector3d& x) { return (x - x.dot(c) * c).normalized(); };
+    Eigen::Vector3d w = tangent(a) + tangent(b);
+    if (!(w.norm() > 1e-3)) w = c.cross(tangent(a));
+    w.normalize();
+    if (!w.allFinite()) return false;
+    double reach = std::numeric_limits<double>::infinity();
+    for (int x : {u, v})
+      for (int f : mesh_.faces_of(x))
+        for (int k = 0; k < 3; ++k) {
+          const int y = mesh_.faces()(f, k);
+          if (y != u && y != v) reach = std::min(reach, (u_.row(y).transpose() - c).norm());
+        }
+    if (!(reach > 0) || !std::isfinite(reach)) return false;
+    const Eigen::Vector3d saved_u = u_.row(u).transpose(), saved_v = u_.row(v).transpose();
+    Eigen::Vector3d best_u = saved_u, best_v = saved_v;
+    double best = std::numeric_limits<double>::infinity();
+    for (double s = 0.4 * reach; s > 1e-4 * reach; s *= 0.5)
+      for (double sign : {1.0, -1.0}) {
+        const Eigen::Vector3d pu = (c - sign * s * w).normalized(), pv = (c + sign * s * w).normalized();
+        u_.row(u) = pu.transpose();
+        u_.row(v) = pv.transpose();
+        if (!(star_score(u, pu) >= min_height) || !(star_score(v, pv) >= min_height)) continue;
+        const double e = star_energy(u, pu, min_height) + star_energy(v, pv, min_height);
+        if (e < best) {
+          best = e;
+          best_u = pu;
+          best_v = pv;
+        }
+      }
+    if (!std::isfinite(best)) {
+      u_.row(u) = saved_u.transpose();
+      u_.row(v) = saved_v.transpose();
+      return false;
+    }
+    u_.row(u) = best_u.transpose();
+    u_.row(v) = best_v.transpose();
+    for (int round = 0; round < 2; ++round) {
+      optimise(v);
+      optimise(u);
+    }
+    return true;
+  }
+
   // Moves w to the centroid of its own kernel when that raises the smallest height of its faces (it opens up the
   // thin angles that make a neighbour's kernel thin). True when w moved.
   bool centre(int w) {
@@ -377,6 +434,27 @@ class SphereEmbedding {
 
 // How the vertices are spread between the splits (see progressive_embedding.hpp, step 4).
 enum class Relaxation { Uniform, Stretch };
+// How a split places its vertices (progressive_embedding.hpp, step 3): v in its own kernel first (the pair only
+// when that fails the margin), or u and v together in u's old kernel first.
+enum class Placement { VertexFirst, PairFirst };
+
+// The smallest area ratio (a_f / Σa) / (A_f / ΣA) over the faces with surface area (sphere chord triangles against
+// the surface): how far the most compressed face fell below its area share; 0 for a failed embedding.
+double smallest_area_ratio(const Eigen::MatrixX3i& faces, const Eigen::MatrixX3d& surface, const Eigen::MatrixX3d& sphere) {
+  if (sphere.rows() != surface.rows()) return 0;
+  Eigen::VectorXd a(faces.rows()), s(faces.rows());
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const auto twice_area = [&](const Eigen::MatrixX3d& x) {
+      return (x.row(faces(f, 1)) - x.row(faces(f, 0))).cross(x.row(faces(f, 2)) - x.row(faces(f, 0))).norm();
+    };
+    a[f] = twice_area(sphere);
+    s[f] = twice_area(surface);
+  }
+  double smallest = std::numeric_limits<double>::infinity();
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    if (s[f] > 0) smallest = std::min(smallest, (a[f] / a.sum()) / (s[f] / s.sum()));
+  return std::isfinite(smallest) ? smallest : 0;
+}
 
 struct Embedding {
   Eigen::MatrixX3d positions;
@@ -390,7 +468,7 @@ struct Embedding {
 // full mesh), spreading the vertices with `relaxation`.
 Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collapse>& collapses,
                 const Eigen::MatrixX3d& surface, const ProgressiveOptions& options, Relaxation relaxation,
-                const FlowControl& control) {
+                Placement placement, const FlowControl& control) {
   Embedding out;
   const Eigen::Index nv = surface.rows();
   // The tetrahedron: the regular one inscribed in the unit sphere, mirrored if needed to match the orientation.
@@ -429,9 +507,17 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
   };
   double next_level = options.level_growth * static_cast<double>(active.size());
   for (auto it = collapses.rbegin(); it != collapses.rend(); ++it) {
-    mesh.split(*it);
     const int v = it->removed, u = it->kept;
-    bool placed = sphere.place(v, u, options.min_height);
+    // Centroid of u's kernel before the split (place_pair); v in its own kernel (place) when that fails.
+    const std::optional<Eigen::Vector3d> old_kernel = sphere.kernel_centroid(u, sphere.positions().row(u).transpose());
+    mesh.split(*it);
+    std::vector<int> apexes;
+    for (int f : it->killed)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.faces()(f, k) != u && mesh.faces()(f, k) != v) apexes.push_back(mesh.faces()(f, k));
+    const bool pair = placement == Placement::PairFirst && old_kernel &&
+                      sphere.place_pair(v, u, *old_kernel, apexes, options.min_height);
+    bool placed = pair || sphere.place(v, u, options.min_height);
     // A kernel too thin for the height margin in double precision (a crowded neighbourhood of u): v is collapsed
     // back, u's neighbourhood (2, 3, 4, 5, 5 rings) is spread — each vertex to the centroid of its own kernel when
     // that opens its thinnest face, then a stretch descent move — and the split is tried again. The last two tries
@@ -547,20 +633,36 @@ FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& 
   // dumbbells: area distortion ~2 against ~16 — where the stretch descent's local moves converge slowly; stretch
   // wins on decimated meshes with very uneven faces — spines: ~4 against 1e5–1e7 — where equal sphere area per
   // vertex is far from equal area per surface area).
-  const Embedding uniform = embed(mesh, collapses, context.normalised_input(), options, Relaxation::Uniform, control);
-  const Embedding stretch = embed(mesh, collapses, context.normalised_input(), options, Relaxation::Stretch, control);
-  if (!uniform.failure.empty() && !stretch.failure.empty())
-    return fail("progressive embedding: " + stretch.failure + " (uniform spreading: " + uniform.failure + ")");
+  const Eigen::MatrixX3d& surface = context.normalised_input();
+  const Embedding uniform = embed(mesh, collapses, surface, options, Relaxation::Uniform, Placement::VertexFirst, control);
+  const Embedding stretch = embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::VertexFirst, control);
   const bool use_uniform = stretch.failure.size() > 0 || (uniform.failure.empty() && uniform.stretch <= stretch.stretch);
-  const Embedding& chosen = use_uniform ? uniform : stretch;
-  result.vertices = chosen.positions;
+  const Embedding* chosen = use_uniform ? &uniform : &stretch;
+  // A long thin part (a coil's middle) can still end compressed far below its area share, or both embeddings
+  // fail: placing each split's pair in u's old kernel (place_pair) is tried then, with stretch spreading, and kept
+  // when its most compressed face is less compressed (measured on the generated coils: the fine 12-turn coil with
+  // wire 1/20 maps only this way; the fine 6-turn one goes from an area ratio of 1e-23 to 1e-11). It runs only
+  // then, so every embedding that kept its faces above the floor is unchanged.
+  Embedding paired;
+  const double chosen_ratio = chosen->failure.empty() ? smallest_area_ratio(context.faces(), surface, chosen->positions) : 0;
+  if (chosen_ratio < options.pair_placement_below_area_ratio) {
+    paired = embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::PairFirst, control);
+    if (paired.failure.empty() && smallest_area_ratio(context.faces(), surface, paired.positions) > chosen_ratio)
+      chosen = &paired;
+  }
+  if (!chosen->failure.empty())
+    return fail("progressive embedding: " + stretch.failure + " (uniform spreading: " + uniform.failure +
+                "; pair placement: " + paired.failure + ")");
+  result.vertices = chosen->positions;
   rec.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
   result.steps.push_back(rec);
   result.message = "progressive embedding: " + std::to_string(collapses.size()) + " vertex splits, " +
-                   (use_uniform ? "uniform" : "stretch") + " spreading (stretch " + std::to_string(chosen.stretch) +
-                   ", the other " + std::to_string(use_uniform ? stretch.stretch : uniform.stretch) + "), " +
-                   std::to_string(chosen.levels) + " levels, " + std::to_string(chosen.moves) + " vertex moves, " +
-                   std::to_string(chosen.spread_neighbourhoods) + " neighbourhoods spread for a placement";
+                   (chosen == &paired ? "pair placement, stretch" : use_uniform ? "uniform" : "stretch") +
+                   " spreading (stretch " + std::to_string(chosen->stretch) + "; uniform " +
+                   std::to_string(uniform.stretch) + ", stretch " + std::to_string(stretch.stretch) +
+                   (paired.moves > 0 ? ", pair placement " + std::to_string(paired.stretch) : std::string()) + "), " +
+                   std::to_string(chosen->levels) + " levels, " + std::to_string(chosen->moves) + " vertex moves, " +
+                   std::to_string(chosen->spread_neighbourhoods) + " neighbourhoods spread for a placement";
   result.keep_normalisation = true;
   return result;
 }

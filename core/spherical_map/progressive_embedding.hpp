@@ -17,6 +17,13 @@
 //     that does not contain v existed, positively oriented, before the split. Should the kernel be too thin for
 //     the height margin in double precision, u's neighbourhood is spread first (v collapsed back) and the split
 //     tried again. v and u are then moved down the stretch energy.
+//     A third embedding runs only when both spreadings below fail or leave a face far below its area share
+//     (ProgressiveOptions::pair_placement_below_area_ratio): each split places u and v TOGETHER in the kernel of
+//     u's star before the split, on either side of its centroid (every face with a corner on the old link stays
+//     valid; only the two restored faces depend on the pair). v alone in its own kernel sits in a thin wedge at u
+//     when v's faces took a thin sector of u's star, and the two restored faces become slivers (measured on the
+//     3-turn coil: sphere area 1e-7 against a surface share 1e-1 at 72 vertices, never undone by later moves; on
+//     the 12-turn coil with wire 1/20 such crowding made a placement fail at any margin).
 //  4. Each time the vertex count has grown by `level_growth`, and at the end, Gauss–Seidel sweeps of stretch
 //     descent over all vertices. The stretch of the map sphere → surface grows without bound when a sphere triangle
 //     shrinks relative to its surface triangle, so thin parts (a coil's middle, a spine's neck) keep a sphere area
@@ -50,6 +57,10 @@ struct ProgressiveOptions {
   // Smallest chord-triangle height 2·area/longest edge (unit sphere) a move may leave: well above the
   // verification's degenerate_height (1e-14), so one more rounding cannot flip a face.
   double min_height = 1e-12;
+  // When the kept embedding's most compressed face has a sphere area share below this fraction of its surface
+  // share (or both embeddings fail), a third embedding places each split's pair in u's old kernel (step 3) and is
+  // kept if its most compressed face is less compressed.
+  double pair_placement_below_area_ratio = 1e-9;
   bool operator==(const ProgressiveOptions&) const = default;
 };
 
