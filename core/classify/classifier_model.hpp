@@ -74,7 +74,9 @@ class ClassifierModel {
   // is still written as 2.
   // 4: payload.novelty per class (reference_classes, one list of leave-one-out scores per class; novelty.hpp).
   // Format-3 files keep loading and computing their one-set figure.
-  static constexpr int kFormatVersion = 4;
+  // 5: payload.novelty.whitening (the within-class whitening of the novelty distance; novelty.hpp). Format-4
+  // files keep loading and computing their Euclidean figure.
+  static constexpr int kFormatVersion = 5;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.

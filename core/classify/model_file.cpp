@@ -274,6 +274,7 @@ json payload_without_novelty(const ClassifierModel::State& s);
 //  format 3: one reference set — {k, quantile, reference, loo_scores: [...]};
 //  format 4: per class — {k, quantile, reference, reference_classes: [class index per row],
 //            loo_scores: [[...] per class]}.
+//  format 5: format 4's keys and whitening: [[...] per feature] (the symmetric matrix W of novelty.hpp).
 // Each format's keys are exactly its own: a format-3 reader meets reference_classes and refuses the file by it
 // (model_version), and this build reads a format-3 block as the one-set figure it was written as.
 json novelty_to_json(const NoveltyCalibration& c) {
@@ -281,6 +282,7 @@ json novelty_to_json(const NoveltyCalibration& c) {
   if (c.per_class) {
     j["reference_classes"] = c.reference_class;
     j["loo_scores"] = c.loo_scores;
+    if (c.whitening.size() != 0) j["whitening"] = rows(c.whitening);
   } else {
     j["loo_scores"] = c.loo_scores.front();
   }
@@ -291,7 +293,10 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
   if (!j.is_object()) invalid("payload.novelty is not an object");
   NoveltyCalibration c;
   c.per_class = version >= 4;
-  if (c.per_class)
+  const bool whitened = version >= 5;
+  if (whitened)
+    refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores", "whitening"}, "payload.novelty");
+  else if (c.per_class)
     refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores"}, "payload.novelty");
   else
     refuse_unknown_keys(j, {"k", "quantile", "reference", "loo_scores"}, "payload.novelty");
@@ -303,6 +308,11 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
     const json& lists = field(j, "loo_scores", "novelty");
     if (!lists.is_array()) invalid("novelty.loo_scores is not an array (one list per class)");
     for (const auto& l : lists) c.loo_scores.push_back(numbers(l, "novelty.loo_scores[]"));
+    if (whitened) {
+      c.whitening = matrix(field(j, "whitening", "novelty"), n_features, "novelty.whitening");
+      if (c.whitening.rows() != n_features)
+        invalid("novelty.whitening has " + std::to_string(c.whitening.rows()) + " rows for " + std::to_string(n_features) + " features");
+    }
   } else {
     c.reference_class.assign(static_cast<std::size_t>(c.reference.rows()), 0);
     c.loo_scores.push_back(numbers(field(j, "loo_scores", "novelty"), "novelty.loo_scores"));
@@ -411,9 +421,10 @@ std::shared_ptr<ClassifierModel::State> state_from_payload(const json& p, std::i
 json document_of(const ClassifierModel::State& s) {
   json payload = payload_of(s);
   const std::string seal = Sha256::hex(payload.dump());
-  // The oldest version that holds what the file has (3: the one-set novelty block, 4: the per-class one), so
+  // The oldest version that holds what the file has (3: the one-set novelty block, 4: the per-class one, 5: the
+  // whitened per-class one), so
   // readers of older versions refuse it by number and a model without novelty stays readable by version 2.
-  const int version = !s.novelty ? 2 : s.novelty->per_class ? 4 : 3;
+  const int version = !s.novelty ? 2 : !s.novelty->per_class ? 3 : s.novelty->whitening.size() == 0 ? 4 : 5;
   return {{"format", kFormatName}, {"format_version", version}, {"payload", std::move(payload)},
           {"payload_sha256", seal}};
 }

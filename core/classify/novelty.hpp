@@ -2,8 +2,8 @@
 // "None of the known types" (issue 25): how unlike every known class a sample is, in the model's own standardised
 // feature space (after the feature pipeline and the z-score scaler, where the SVM works).
 //
-// Per class (model format 4; the default since the open-set measurement of docs/benchmarks.md "Novelty"):
-//  * score of class c: the mean Euclidean distance from the sample to its k nearest members of class c among the
+// Per class (model format 4; format 5 measures the distance in a whitened space, see below):
+//  * score of class c: the mean distance from the sample to its k nearest members of class c among the
 //    training samples (k = 3 by default, or n_c - 1 for a class of fewer samples);
 //  * calibration (at training time, stored in the model file): every training sample's leave-one-out score against
 //    its OWN class (its k nearest other members), sorted per class — how far a new member of c lies from c's
@@ -24,9 +24,17 @@
 // far from both in their own units, but not far from the training set as a whole (measured, leave-one-class-out,
 // docs/benchmarks.md: 360 demo descriptors 174 -> 250 left-out members flagged, 360 UroCell ones 80 -> 107, known
 // members flagged <= 0.6 % either way). It does not reach the issue's 90 %: see docs/benchmarks.md for why.
+// The distance (format 5, the default): |W (a - b)| with W = C^(-1/2), C the covariance of the training samples
+// about their own class means pooled over the classes, shrunk towards a multiple of the identity by the Ledoit-Wolf
+// estimate (Ledoit & Wolf, J. Multivariate Anal. 88, 2004), at least by half — a Mahalanobis distance by the within-class spread, as
+// in Lee et al. (NeurIPS 2018) for out-of-distribution detection, here inside the k-NN conformal test. Why: the
+// directions in which members of one type vary (above all size: xi(l) scales as length^2, so log xi shifts all
+// together) dominate the standardised features, and a Euclidean k-NN radius calibrated along them hides a new type
+// that differs in the directions a type hardly varies in. Measured in docs/benchmarks.md "Novelty".
 // A k-nearest-neighbour distance rather than the SVM's probabilities: a one-vs-one SVM extrapolates a confident
 // label far from all its training data, so its probabilities cannot say "none of these".
 //
+// Model format 4 files (no whitening) load and compute their Euclidean figure.
 // Model format 3 files carry the first figure (one reference set: every training sample, one list of leave-one-out
 // scores). They load as one group and compute exactly what they computed when written.
 
@@ -36,6 +44,12 @@
 
 namespace wish {
 
+// How distances are measured in the standardised feature space.
+enum class NoveltyDistance {
+  Euclidean,  // formats 3 and 4
+  Whitened,   // format 5: Mahalanobis by the pooled within-class covariance, Ledoit-Wolf shrunk
+};
+
 struct NoveltyCalibration {
   // false: the format-3 figure (all reference rows one group); true: per class (format 4).
   bool per_class = true;
@@ -44,6 +58,9 @@ struct NoveltyCalibration {
   Eigen::MatrixXd reference;                      // standardised training samples, one per row
   std::vector<int> reference_class;               // per row, its group: the model's class index (0 for all rows when !per_class)
   std::vector<std::vector<double>> loo_scores;    // per group, ascending, one per row of the group
+  // Empty: Euclidean distances (formats 3 and 4). Otherwise W (features x features, symmetric) and every distance
+  // is |W (a - b)|: the reference rows stay standardised, W is applied to both sides.
+  Eigen::MatrixXd whitening;
 };
 
 struct NoveltyAssessment {
@@ -59,9 +76,16 @@ struct NoveltyAssessment {
 // Xs: the standardised training samples the SVM was fitted on (at least 2 rows), y: their class indices
 // (0..classes-1, every class present). Throws InvalidInputError("training_data") when there are fewer than 2 samples.
 NoveltyCalibration calibrate_novelty(const Eigen::MatrixXd& Xs, const std::vector<int>& y, int k = 3,
-                                     double quantile = 0.99);
+                                     double quantile = 0.99, NoveltyDistance distance = NoveltyDistance::Whitened);
 // The format-3 figure (one group): kept for reading older model files and for the measurement that compares them.
 NoveltyCalibration calibrate_novelty_one_set(const Eigen::MatrixXd& Xs, int k = 5, double quantile = 0.99);
+
+// W = C^(-1/2) (symmetric), C the covariance of the rows of Xs about their class means (y: class indices >= 0),
+// shrunk towards mu I (mu its mean eigenvalue): C = (1 - s) S + s mu I with s the Ledoit-Wolf estimate of the
+// shrinkage, at least kMinShrinkage (novelty.cpp says why); the identity when every class's members coincide.
+// Throws InvalidInputError("training_data") on mismatched sizes.
+inline constexpr double kMinShrinkage = 0.5;
+Eigen::MatrixXd within_class_whitening(const Eigen::MatrixXd& Xs, const std::vector<int>& y);
 
 // The q-quantile (0 < q < 1) of one group's leave-one-out scores. Throws InvalidInputError("invalid_parameter")
 // otherwise. A group of one sample has no leave-one-out score: it takes the largest threshold of the other groups.

@@ -264,8 +264,10 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   if (options.novelty) {
     // On the samples the final SVM was fitted on, in its standardised space.
     state->novelty = options.refit_on_all
-                         ? calibrate_novelty(final_scaler.transform(X), y, options.novelty_k, options.novelty_quantile)
-                         : calibrate_novelty(Xs_train, y_train, options.novelty_k, options.novelty_quantile);
+                         ? calibrate_novelty(final_scaler.transform(X), y, options.novelty_k, options.novelty_quantile,
+                                             options.novelty_distance)
+                         : calibrate_novelty(Xs_train, y_train, options.novelty_k, options.novelty_quantile,
+                                             options.novelty_distance);
     for (int c = 0; c < k; ++c)
       rep.novelty_class_thresholds.push_back(novelty_threshold(*state->novelty, options.novelty_quantile, c));
     rep.novelty_threshold = *std::max_element(rep.novelty_class_thresholds.begin(), rep.novelty_class_thresholds.end());

@@ -39,6 +39,7 @@ struct TrainOptions {
   bool novelty = true;             // calibrate the novelty figure (novelty.hpp) on the final fit's samples
   int novelty_k = 3;               // per class; 3 flagged more left-out members than 5 at the same false-flag rate (docs/benchmarks.md)
   double novelty_quantile = 0.99;  // the model's default threshold quantile
+  NoveltyDistance novelty_distance = NoveltyDistance::Whitened;  // format 5; Euclidean: format 4's figure
   std::uint64_t seed = 42;
   // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
   // class loses more than loss_policy.max_class_loss of its meshes (training_losses.hpp).

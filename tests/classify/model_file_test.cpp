@@ -270,15 +270,16 @@ TEST(ModelFile, BundledDefaultModelIsAsThisBuildWritesIt) {
   EXPECT_EQ(recipe_version_of(model.recipe()), 3);
 }
 
-// The novelty block (issue 25; per class since format 4): written with the version that introduced it, so an older
-// reader refuses the file; optional on read (a file without it loads and predicts without a novelty figure); a
-// block in a file that claims an older version is refused; an inconsistent block is refused with its path.
-TEST(ModelFile, NoveltyBlockIsVersion4OptionalAndChecked) {
+// The novelty block (issue 25; per class since format 4, whitened since 5): written with the version that introduced
+// it, so an older reader refuses the file; optional on read (a file without it loads and predicts without a novelty
+// figure); a block in a file that claims an older version is refused; an inconsistent block is refused with its path.
+TEST(ModelFile, NoveltyBlockIsVersion5OptionalAndChecked) {
   const auto doc = nlohmann::json::parse(trained().to_json_text());
   ASSERT_TRUE(trained().has_novelty());
-  EXPECT_EQ(doc["format_version"], 4);
+  EXPECT_EQ(doc["format_version"], 5);
   ASSERT_TRUE(doc["payload"].contains("novelty"));
   ASSERT_TRUE(doc["payload"]["novelty"].contains("reference_classes"));
+  ASSERT_TRUE(doc["payload"]["novelty"].contains("whitening"));
   const auto sample = testing::synthetic_samples(3, 1, 5).front().features;
   {
     const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
@@ -308,6 +309,27 @@ TEST(ModelFile, NoveltyBlockIsVersion4OptionalAndChecked) {
     auto d = doc;
     d["format_version"] = 3;
     expect_refused(reseal(d), "model_version", "payload.novelty.reference_classes");
+  }
+  {
+    // A format-4 reader knows no whitening: the whitened block in a file that says 4 is refused by it.
+    auto d = doc;
+    d["format_version"] = 4;
+    expect_refused(reseal(d), "model_version", "payload.novelty.whitening");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["whitening"][0].erase(0);
+    expect_refused(reseal(d), "model_invalid", "novelty.whitening");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["whitening"].erase(0);
+    expect_refused(reseal(d), "model_invalid", "novelty.whitening");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["whitening"][0][1] = d["payload"]["novelty"]["whitening"][0][1].get<double>() + 1;
+    expect_refused(reseal(d), "model_invalid", "not symmetric");
   }
   {
     auto d = doc;
@@ -369,6 +391,43 @@ TEST(ModelFileMigration, FormatVersion3KeepsItsOneSetNoveltyFigure) {
   }
   EXPECT_EQ(flagged, 4);  // four of the five neurons, none of the known classes' members (as written)
   EXPECT_EQ(nlohmann::json::parse(model.to_json_text())["format_version"], 3);
+}
+
+// A model file of format version 4 (the bundled default model as main 41c0f1d shipped it, committed as a fixture)
+// keeps its Euclidean per-class novelty figure: it loads and computes the scores, p-values, flags and labels that
+// build's `wish predict --descriptors data/models/demo-descriptors.csv --csv` wrote
+// (tests/classify/data/model_format_v4_predictions.csv), and is saved again as format 4.
+TEST(ModelFileMigration, FormatVersion4KeepsItsEuclideanNoveltyFigure) {
+  const ClassifierModel model = ClassifierModel::load(fixture_dir() / "model_format_v4.json");
+  ASSERT_TRUE(model.has_novelty());
+  EXPECT_TRUE(model.novelty_calibration()->per_class);
+  EXPECT_EQ(model.novelty_calibration()->whitening.size(), 0);
+  std::ifstream expected_in(fixture_dir() / "model_format_v4_predictions.csv");
+  std::stringstream expected_text;
+  expected_text << expected_in.rdbuf();
+  const auto expected = parse_csv(expected_text.str());
+  std::ifstream csv_in(testing::project_data_dir() / "models" / "demo-descriptors.csv");
+  std::stringstream text;
+  text << csv_in.rdbuf();
+  const auto table = read_descriptor_table(text.str());
+  ASSERT_EQ(expected.size(), table.samples.size() + 1);
+  auto column = [&](const std::string& name) {
+    const auto c = std::find(expected[0].begin(), expected[0].end(), name) - expected[0].begin();
+    EXPECT_LT(c, static_cast<long>(expected[0].size())) << name;
+    return static_cast<std::size_t>(c);
+  };
+  const std::size_t label = column("label"), novel = column("novel"), score = column("novelty_score"),
+                    p_value = column("novelty_p_value");
+  for (std::size_t i = 0; i < table.samples.size(); ++i) {
+    const auto& row = expected[i + 1];
+    const Prediction p = model.predict(table.samples[i].features);
+    ASSERT_TRUE(p.novelty);
+    EXPECT_EQ(p.label, row[label]) << table.samples[i].id;
+    EXPECT_EQ(p.novelty->novel, row[novel] == "true") << table.samples[i].id;
+    EXPECT_NEAR(p.novelty->score, std::stod(row[score]), 1e-8 * std::stod(row[score])) << table.samples[i].id;
+    EXPECT_NEAR(p.novelty->p_value, std::stod(row[p_value]), 1e-9) << table.samples[i].id;
+  }
+  EXPECT_EQ(nlohmann::json::parse(model.to_json_text())["format_version"], 4);
 }
 
 // A model file of format version 1 (the bundled default model as main cfdc7a1 wrote it, committed as a fixture)
