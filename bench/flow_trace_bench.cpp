@@ -1,7 +1,8 @@
 // Step trace of ONE flow per mesh, without fallback and without the local repair (issue 24 item 3: why the flows
 // stop at their first steps on decimated, needle-heavy meshes):
 //   flow_trace_bench [--method willmore|cmcf] [--laplacian intrinsic_delaunay|mollified|extrinsic] [--cmcf-delta D]
-//                    [--steps N] FILE...
+//                    [--steps N] [--needle] [--roundness-stall S] [--energy-tolerance E] FILE...
+// (--needle: Willmore with the needle operator, WillmoreOptions::needle_operator; the other two: its stop rules)
 // Per mesh: operator statistics of the input (negative cotan weights before / after the intrinsic flips, flips),
 // then per step try: tau, Willmore energy, roundness, accepted or the rejection reason; then how the attempt ended
 // (stop, flips and degenerate faces of the radial projection before any repair, K p99). First, the default chain's
@@ -72,6 +73,9 @@ int main(int argc, char** argv) {
     else if (a == "--laplacian" && i + 1 < argc) options.laplacian.kind = wish::geometry::laplacian_kind_from_name(argv[++i]);
     else if (a == "--cmcf-delta" && i + 1 < argc) options.cmcf.delta = std::stod(argv[++i]);
     else if (a == "--steps" && i + 1 < argc) options.cmcf.max_steps = options.willmore.max_steps = std::stoi(argv[++i]);
+    else if (a == "--needle") options.willmore.needle_operator = true;  // the chain's needle retry's operator
+    else if (a == "--roundness-stall" && i + 1 < argc) options.willmore.roundness_stall = std::stod(argv[++i]);
+    else if (a == "--energy-tolerance" && i + 1 < argc) options.willmore.energy_tolerance = std::stod(argv[++i]);
     else files.push_back(a);
   }
   for (const std::string& f : files) {

@@ -2,7 +2,8 @@
 //   map_collection_bench DIR|LIST.txt|MESH [...]   (DIR: recursive, .off .obj .ply .stl; LIST.txt: one path a line)
 // Per mesh: read → prepare_for_mapping → compute_spherical_map with the default options (--method M: the chain
 // that starts with M, as a model whose recipe has that method and the default off-recipe policy, refuse, runs it:
-// prefer_method). Columns: meshes found,
+// prefer_method; --no-needle-aware: the chain without its needle retry and needle-aware choice, as before issue 24 item 3,
+// map_chain.cpp). Columns: meshes found,
 // accepted by validation (closed genus-0 manifold), 0-flip rate and Ok rate of the accepted, map time median / p95
 // / max (wall-clock seconds, one core: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1) and the same in CPU
 // seconds of the mapping thread (what the flow budget counts; load-independent), the method each map ended on, the
@@ -12,7 +13,8 @@
 // max(1, V/10K)): CPU s per 10K vertices median / p95 / max, meshes over 3 s per 10K, CPU median / max by the method
 // each map ended on, and how many maps a budget stopped (an attempt with stop time_budget, a repair the chain budget
 // stopped, or a skipped attempt).
-// Per mesh (stderr): the chain as run, method/stop:flips+degenerate/CPU seconds per attempt, then skipped ones.
+// Per mesh (stderr): the chain as run, method/stop:flips+degenerate K p99|K p99 of the well-shaped faces/CPU seconds
+// per attempt, then skipped ones.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -102,8 +104,10 @@ void map_one(const std::filesystem::path& path, const wish::SphericalMapOptions&
   // The chain as run: method/stop:flips+degenerate faces/seconds per attempt.
   std::string chain;
   for (const wish::MapAttempt& a : r.attempts)
-    chain += std::string(chain.empty() ? "" : " > ") + wish::to_string(a.method) + "/" + wish::to_string(a.stop) + ":" +
-             std::to_string(a.quality.flipped_faces) + "+" + std::to_string(a.quality.degenerate_faces) + "/" +
+    chain += std::string(chain.empty() ? "" : " > ") + wish::to_string(a.method) + (a.needle ? "(needle)" : "") + "/" + wish::to_string(a.stop) + ":" +
+             std::to_string(a.quality.flipped_faces) + "+" + std::to_string(a.quality.degenerate_faces) + " K" +
+             std::to_string(a.quality.conformal_p99).substr(0, 5) + "|" +
+             std::to_string(a.quality.conformal_p99_well_shaped).substr(0, 5) + "/" +
              std::to_string(a.cpu_seconds).substr(0, 4) + "s" +
              (a.quality.repaired_vertices > 0 ? " (repaired " + std::to_string(a.quality.repaired_vertices) + ")" : "") +
              (a.repair_cpu_seconds >= 0.05 ? " repair " + std::to_string(a.repair_cpu_seconds).substr(0, 4) + "s" : "") +
@@ -154,7 +158,7 @@ void print(const Row& r) {
 int main(int argc, char** argv) {
   const auto usage = [&] {
     std::fprintf(stderr,
-                 "usage: %s [--method willmore|cmcf|linear] DIR|LIST.txt|MESH [...]  (DIR recursive: .off .obj .ply "
+                 "usage: %s [--method willmore|cmcf|linear] [--no-needle-aware] DIR|LIST.txt|MESH [...]  (DIR recursive: .off .obj .ply "
                  ".stl; LIST.txt one path a line)\n",
                  argv[0]);
     return 2;
@@ -167,6 +171,10 @@ int main(int argc, char** argv) {
     if (a == "--method" && i + 1 < argc) {  // the chain of a model with this recipe method and the refuse policy
       options.method = wish::map_method_from_name(argv[++i]);
       options.prefer_method = true;
+      continue;
+    }
+    if (a == "--no-needle-aware") {  // the chain without its needle retry and choice (A/B of issue 24 item 3)
+      options.needle_aware = false;
       continue;
     }
     if (!std::filesystem::exists(a)) {

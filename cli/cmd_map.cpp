@@ -54,7 +54,7 @@ void print_text(const SphericalMapResult& r, const PreparedMesh& prepared, const
             << prepared.mesh.face_count() << " faces)\n";
   for (const RepairAction& a : prepared.repairs) std::cout << "repair     " << a.message << "\n";
   for (const MapAttempt& a : r.attempts) {
-    std::cout << "attempt    " << to_string(a.method) << (a.filtered ? " (filtered)" : "") << ", " << a.steps.size()
+    std::cout << "attempt    " << to_string(a.method) << (a.filtered ? " (filtered)" : "") << (a.needle ? " (needle retry)" : "") << ", " << a.steps.size()
               << " step(s), " << to_string(a.status) << (a.failed_check == MapCheck::None ? "" : std::string(" [") + to_string(a.failed_check) + "]")
               << ", " << a.seconds << " s\n";
     if (!a.message.empty()) std::cout << "           " << a.message << "\n";

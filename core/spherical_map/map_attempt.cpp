@@ -26,12 +26,14 @@ FlowResult run_method(const MapContext& context, const MapAttemptPlan& plan, con
     case MapMethod::Willmore: {
       WillmoreOptions w = options.willmore;
       w.filtered = plan.filtered;
+      w.needle_operator = w.needle_operator || plan.needle;
       w.max_steps = control.start ? plan.max_steps - options.willmore.max_steps : plan.max_steps;
       return willmore_flow(context, w, control);
     }
     case MapMethod::Cmcf: {
       CmcfOptions c = options.cmcf;
       c.max_steps = control.start ? plan.max_steps - options.cmcf.max_steps : plan.max_steps;
+      if (plan.needle) c.delta = kNeedleCmcfDelta;
       return cmcf_flow(context, c, control);
     }
     case MapMethod::Linear: {
@@ -155,6 +157,7 @@ AttemptRun run_attempt(const MapContext& context, const MapAttemptPlan& plan, co
   MapAttempt& attempt = run.attempt;
   attempt.method = plan.method;
   attempt.filtered = plan.filtered;
+  attempt.needle = plan.needle;
   attempt.max_steps = plan.max_steps;
   attempt.continued_from = control.start ? plan.continue_from : -1;
   FlowResult flow = [&] {

@@ -20,12 +20,20 @@
 namespace wish {
 
 // One entry of the chain (plan_attempts()).
+// cMCF's time step in the chain's needle retry (at total area 4π; CmcfOptions::delta is 1): on decimated needle-heavy
+// spines the flow then gets rounder before it stalls, and its radial projection has a few flips (2-25 on the generated
+// spines) that the local repair removes, where δ = 1 leaves hundreds (docs/design/needle-flows.md).
+inline constexpr double kNeedleCmcfDelta = 0.1;
+
 struct MapAttemptPlan {
   MapMethod method = MapMethod::Willmore;
   bool filtered = false;
   int max_steps = 0;
   int continue_from = -1;  // Willmore: continue the flowed surface of this earlier attempt (if it hit its cap)
   bool clamp = false;      // linear: always use the clamped (all-positive) weights
+  // The chain's needle retry (map_chain.cpp; runs only while no Ok map is held): Willmore with the needle
+  // operator (WillmoreOptions::needle_operator), cMCF with the small time step kNeedleCmcfDelta.
+  bool needle = false;
   bool operator==(const MapAttemptPlan&) const = default;
 };
 
@@ -52,6 +60,7 @@ struct MapAttempt {
   bool map_verified = false;         // Added: the map passed verification (it may still be NotConverged)
   int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
   bool clamped_weights = false;      // Added: a linear attempt that used the clamped (Tutte) weights
+  bool needle = false;               // Added: an attempt of the chain's needle retry (MapAttemptPlan::needle)
 };
 
 namespace spherical {

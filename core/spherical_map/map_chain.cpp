@@ -20,6 +20,13 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
                                  std::max(options.cmcf.max_steps, options.cmcf.fallback_max_steps)};
   // After a cMCF attempt that hit its cap: the same flow continued from its surface (attempt 0) up to the long cap.
   const MapAttemptPlan cmcf_more{MapMethod::Cmcf, false, cmcf_long.max_steps, 0};
+  // The needle retry (docs/design/needle-flows.md): Willmore with the needle operator (H and mass from the intrinsic
+  // Delaunay operator, Poisson weights clamped to >= 0), then cMCF with a ten times smaller time step. Each runs
+  // only while no Ok map is held (Chain::applies): on decimated, needle-heavy meshes the flows above stall with
+  // hundreds of flips, these get rounder and leave a few that the local repair removes; a mesh that an earlier
+  // attempt maps keeps its map (both variants change most maps, so they replace no earlier attempt).
+  const MapAttemptPlan willmore_needle{MapMethod::Willmore, options.willmore.filtered, n, -1, false, true};
+  const MapAttemptPlan cmcf_needle{MapMethod::Cmcf, false, cmcf_long.max_steps, -1, false, true};
   const MapAttemptPlan linear{MapMethod::Linear, false, 1};
   const MapAttemptPlan linear_clamped{MapMethod::Linear, false, 1, -1, true};
   // The last resort of every chain (progressive_embedding.hpp): bijective by construction, with the area of thin
@@ -32,6 +39,10 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
     if (options.fallback) {
       plans.push_back({MapMethod::Willmore, options.willmore.filtered, 2 * n, 0});  // more steps
       plans.push_back(cmcf_long);
+      if (options.needle_aware) {
+        plans.push_back(willmore_needle);
+        plans.push_back(cmcf_needle);
+      }
       plans.push_back(linear);
       plans.push_back(linear_clamped);
       plans.push_back(progressive);
@@ -76,6 +87,23 @@ bool less_bad(const MapAttempt& a, const MapAttempt& b) {
   if ((p.degree == 1) != (q.degree == 1)) return p.degree == 1;
   if (p.degenerate_faces != q.degenerate_faces) return p.degenerate_faces < q.degenerate_faces;
   return p.conformal_p99 < q.conformal_p99;
+}
+
+// Between two Ok maps: true when `a` should replace `b`. The lower K p99 wins (the held map wins ties), except
+// between a flow's map and a one-shot method's (linear, progressive): there the flow's map wins also when its K p99
+// over the well-shaped faces (every angle >= 5 degrees, MapQuality::conformal_p99_well_shaped) is no higher. On
+// decimated, needle-heavy meshes the all-faces p99 lands on the needles, whose K reads large for small position
+// errors, and there the one-shot map often wins by the needles alone (measured on the generated needle spines,
+// docs/design/needle-flows.md). The rule only adds cases where a flow wins, so a map that ended on a flow by K p99
+// still does. Without options.needle_aware: K p99 alone.
+bool less_distorted(const MapAttempt& a, const MapAttempt& b, const SphericalMapOptions& options) {
+  const MapQuality &p = a.quality, &q = b.quality;
+  if (!options.needle_aware || is_one_shot(a.method) == is_one_shot(b.method)) return p.conformal_p99 < q.conformal_p99;
+  const MapQuality& flow = is_one_shot(a.method) ? q : p;
+  const MapQuality& shot = is_one_shot(a.method) ? p : q;
+  const bool flow_as_good = flow.conformal_p99 <= shot.conformal_p99 ||
+                            flow.conformal_p99_well_shaped <= shot.conformal_p99_well_shaped;
+  return is_one_shot(a.method) ? !flow_as_good : flow_as_good;
 }
 
 // The chain's CPU budgets, scaled with the mesh size, in CPU time of this thread, not wall-clock: the method a
@@ -142,6 +170,8 @@ class Chain {
     // The last resort after other methods: only without an Ok map (a provisional one included), so the maps of
     // meshes that an earlier method maps do not change.
     if (plan.method == MapMethod::Progressive && options_.method != MapMethod::Progressive && holding_ok()) return false;
+    // The needle retry likewise: only when the attempts before it gave no Ok map.
+    if (plan.needle && holding_ok()) return false;
     // With prefer_method, an Ok map of the requested method is final against every other method's: only the same
     // method's later attempts (a continued flow) can still replace it.
     if (options_.prefer_method && holding_ok() && plan.method != options_.method && chosen().method == options_.method)
@@ -176,9 +206,8 @@ class Chain {
     const bool chosen_ok = !first && chosen().status == MapStatus::Ok;
     // Ok maps are ranked by method (with prefer_method: the requested one first), then by K p99.
     const auto rank = [&](const MapAttempt& a) { return options_.prefer_method && a.method != options_.method; };
-    const bool better_ok =
-        ok && (!chosen_ok || rank(attempt) < rank(chosen()) ||
-               (rank(attempt) == rank(chosen()) && attempt.quality.conformal_p99 < chosen().quality.conformal_p99));
+    const bool better_ok = ok && (!chosen_ok || rank(attempt) < rank(chosen()) ||
+                                  (rank(attempt) == rank(chosen()) && less_distorted(attempt, chosen(), options_)));
     if (first || better_ok || (!chosen_ok && less_bad(attempt, chosen()))) {
       outcome_.chosen_attempt = static_cast<int>(outcome_.attempts.size());
       outcome_.sphere = std::move(run.sphere);

@@ -62,6 +62,10 @@ struct SphericalMapOptions {
   // another method's is a refusal. Off: the least distorted Ok map wins. Not part of the recipe (derived from its
   // policy), so not in the model file.
   bool prefer_method = false;
+  // Added: the chain's needle retry and its needle-aware choice between a flow's map and a one-shot map
+  // (map_chain.cpp; docs/design/needle-flows.md). Off (the chain as before issue 24 item 3) only for A/B
+  // measurements (bench/map_collection_bench --no-needle-aware). Not part of the recipe, so not in the model file.
+  bool needle_aware = true;
   bool operator==(const SphericalMapOptions&) const = default;
 };
 

@@ -62,6 +62,28 @@ bool is_bad_sphere_face(const Eigen::MatrixX3d& u, const Eigen::MatrixX3i& faces
   return !(n.norm() >= min_height * longest);
 }
 
+namespace {
+
+// The smallest corner angle of input face f, in degrees.
+double smallest_corner_degrees(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces, Eigen::Index f) {
+  double least = 180;
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::Vector3d p = x.row(faces(f, c)), u = x.row(faces(f, (c + 1) % 3)) - p.transpose(),
+                          w = x.row(faces(f, (c + 2) % 3)) - p.transpose();
+    least = std::min(least, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / std::numbers::pi);
+  }
+  return least;
+}
+
+// The 99th percentile (nearest rank, as conformal_p99); reorders v.
+double percentile_99(std::vector<double>& v) {
+  const size_t idx = std::min(v.size() - 1, static_cast<size_t>(std::ceil(0.99 * static_cast<double>(v.size()))) - 1);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(idx), v.end());
+  return v[idx];
+}
+
+}  // namespace
+
 MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                        const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds) {
   MapQuality q;
@@ -90,8 +112,9 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
   // segmentation mesh's twin-vertex faces — have no meaningful K or area ratio: they are counted, not averaged.
   const FaceDistortion d = face_distortion(input_vertices, faces, sphere);
   const double input_area = d.input_area.sum();
-  std::vector<double> k;
+  std::vector<double> k, k_well_shaped;
   k.reserve(static_cast<size_t>(nf));
+  k_well_shaped.reserve(static_cast<size_t>(nf));
   double ksum = 0, log_sum = 0;
   const double min_input_area = 1e-14 * input_area / static_cast<double>(std::max<Eigen::Index>(1, nf));
   for (Eigen::Index f = 0; f < nf; ++f) {
@@ -100,6 +123,7 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
       continue;
     }
     k.push_back(d.conformal[f]);
+    if (smallest_corner_degrees(input_vertices, faces, f) >= kWellShapedDegrees) k_well_shaped.push_back(d.conformal[f]);
     ksum += d.conformal[f];
     log_sum += std::abs(std::log(d.area_ratio[f]));
   }
@@ -109,6 +133,7 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
     const size_t idx = std::min(k.size() - 1, static_cast<size_t>(std::ceil(0.99 * static_cast<double>(k.size()))) - 1);
     std::nth_element(k.begin(), k.begin() + static_cast<std::ptrdiff_t>(idx), k.end());
     q.conformal_p99 = k[idx];
+    q.conformal_p99_well_shaped = k_well_shaped.empty() ? q.conformal_p99 : percentile_99(k_well_shaped);
     q.area_distortion = std::exp(log_sum / static_cast<double>(k.size()));
   }
   const bool bijective = q.non_finite_vertices == 0 && q.flipped_faces == 0 && q.degenerate_faces == 0 && q.degree == 1;

@@ -49,6 +49,11 @@ struct MapQuality {
   double min_face_area = 0;          // smallest spherical triangle area (unit sphere)
   double min_face_height = 0;        // Added: smallest 2·area/(longest edge) (unit sphere); see degenerate_height
   double conformal_mean = 0, conformal_p99 = 0, conformal_max = 0;  // per-face K = sigma1/sigma2 >= 1
+  // Added: K p99 over the input faces whose every corner angle is at least kWellShapedDegrees (= conformal_p99 on a
+  // mesh without needles). On decimated meshes with 2-3 % needle triangles the 99th percentile lands on the
+  // needles, whose affine map is ill-conditioned (a small position error reads as a large K): this figure is
+  // what the chain compares between a flow's map and a one-shot map (map_chain.cpp; docs/design/needle-flows.md).
+  double conformal_p99_well_shaped = 0;
   double area_distortion = 0;        // exp(mean |log(area ratio)|), areas normalised to equal totals
   double roundness = 0;              // std(r)/mean(r) of the flowed surface before projection
   double mobius_centroid = 0;        // |sum w_i u_i| after Möbius balancing
@@ -62,6 +67,8 @@ struct MapQuality {
 };
 
 namespace spherical {
+
+inline constexpr double kWellShapedDegrees = 5.0;
 
 MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                        const Eigen::MatrixX3d& sphere, const MapVerificationThresholds& thresholds);

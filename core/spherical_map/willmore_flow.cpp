@@ -1,5 +1,6 @@
 #include "core/spherical_map/willmore_flow.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -93,16 +94,45 @@ struct SurfaceState {
   bool finite = true;
 };
 
-void update_state(const Eigen::MatrixX3i& faces, const geometry::IntrinsicOptions& laplacian, SurfaceState& s) {
+// The PSD Laplacian of `edges` (L_ij = −w_ij, L_ii = Σ_j w_ij), with w_ij clamped to ≥ 0 in `edges` first: the
+// normal equations of min Σ w_ij |x̃_j − x̃_i − ẽ_ij|², a least-squares fit only when no weight is negative. The
+// pattern keeps the clamped (zero) entries, so it is that of the mesh's edges.
+Eigen::SparseMatrix<double> clamped_edge_laplacian(std::vector<geometry::IntrinsicEdgeWeight>& edges, Eigen::Index n) {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(4 * edges.size() + static_cast<std::size_t>(n));
+  for (geometry::IntrinsicEdgeWeight& e : edges) {
+    e.weight = std::max(0.0, e.weight);
+    t.emplace_back(e.i, e.j, -e.weight);
+    t.emplace_back(e.j, e.i, -e.weight);
+    t.emplace_back(e.i, e.i, e.weight);
+    t.emplace_back(e.j, e.j, e.weight);
+  }
+  for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(static_cast<int>(i), static_cast<int>(i), 0.0);
+  Eigen::SparseMatrix<double> l(n, n);
+  l.setFromTriplets(t.begin(), t.end());
+  return l;
+}
+
+// `laplacian`: the flow's operator (flow_operator()); `curvature`: the intrinsic Delaunay one, used for H, the mass
+// and the roundness with WillmoreOptions::needle_operator (then the Poisson weights are also clamped to >= 0).
+void update_state(const Eigen::MatrixX3i& faces, const geometry::IntrinsicOptions& laplacian,
+                  const geometry::IntrinsicOptions* curvature, SurfaceState& s) {
   const profile::ScopedStage stage("willmore.surface_state (operator, H, energy)");
   geometry::IntrinsicOperator op = geometry::intrinsic_operator(s.x, faces, laplacian);
   s.areas = std::move(op.input_face_areas);
-  s.laplacian = std::move(op.laplacian);
-  s.mass = std::move(op.mass);
   s.edges = std::move(op.edges);
   s.operator_stats = op.stats;
   s.normals = geometry::vertex_normals(s.x, faces);
-  s.h = geometry::mean_curvature(s.x, s.laplacian, s.mass, s.normals);
+  if (curvature) {
+    s.laplacian = clamped_edge_laplacian(s.edges, s.x.rows());
+    const geometry::IntrinsicOperator delaunay = geometry::intrinsic_operator(s.x, faces, *curvature);
+    s.mass = delaunay.mass;
+    s.h = geometry::mean_curvature(s.x, delaunay.laplacian, s.mass, s.normals);
+  } else {
+    s.laplacian = std::move(op.laplacian);
+    s.mass = std::move(op.mass);
+    s.h = geometry::mean_curvature(s.x, s.laplacian, s.mass, s.normals);
+  }
   s.energy = geometry::willmore_energy(s.h, s.mass);
   s.roundness = geometry::roundness(s.x, s.mass);
   s.finite = s.x.allFinite() && s.laplacian.coeffs().allFinite() && s.h.allFinite() && std::isfinite(s.energy) &&
@@ -148,7 +178,8 @@ class WillmoreRun {
  public:
   WillmoreRun(const MapContext& context, const WillmoreOptions& options, const FlowControl& control)
       : context_(context), faces_(context.faces()), options_(options), control_(control),
-        laplacian_(flow_operator(context.laplacian())), dirac_(context, options.complex_dirac),
+        laplacian_(flow_operator(context.laplacian())), curvature_operator_(delaunay_operator(context.laplacian())),
+        dirac_(context, options.complex_dirac),
         poisson_solver_(context.cholesky_options(linalg::CholmodMode::Auto, true)),
         filter_solver_(context.cholesky_options(linalg::CholmodMode::Auto, true)) {
     eigen_options_.max_iterations = options.max_inverse_iterations;
@@ -157,7 +188,7 @@ class WillmoreRun {
   FlowResult run() {
     state_.x = control_.start ? *control_.start : context_.normalised_input();
     if (control_.start) normalise_area_and_centre(state_.x, faces_);
-    update_state(faces_, laplacian_, state_);
+    update_state(faces_, laplacian_, curvature(), state_);
     result_.operator_stats = state_.operator_stats;
     result_.initial_energy = result_.energy = state_.energy;
     result_.initial_roundness = result_.roundness = state_.roundness;
@@ -207,6 +238,14 @@ class WillmoreRun {
   static geometry::IntrinsicOptions flow_operator(geometry::IntrinsicOptions o) {
     if (o.kind == geometry::LaplacianKind::IntrinsicDelaunay) o.kind = geometry::LaplacianKind::Mollified;
     return o;
+  }
+
+  static geometry::IntrinsicOptions delaunay_operator(geometry::IntrinsicOptions o) {
+    o.kind = geometry::LaplacianKind::IntrinsicDelaunay;
+    return o;
+  }
+  const geometry::IntrinsicOptions* curvature() const {
+    return options_.needle_operator ? &curvature_operator_ : nullptr;
   }
 
   enum class Try { Accepted, Rejected, Failed };
@@ -321,7 +360,7 @@ class WillmoreRun {
     next.x = poisson_solver_.solve(omega);
     if (release_factors_) poisson_solver_.release_values();
     normalise_area_and_centre(next.x, faces_);
-    update_state(faces_, laplacian_, next);
+    update_state(faces_, laplacian_, curvature(), next);
     return true;
   }
 
@@ -386,7 +425,7 @@ class WillmoreRun {
   const Eigen::MatrixX3i& faces_;
   const WillmoreOptions& options_;
   const FlowControl& control_;
-  const geometry::IntrinsicOptions laplacian_;
+  const geometry::IntrinsicOptions laplacian_, curvature_operator_;
   DiracSystem dirac_;
   linalg::SparseCholesky poisson_solver_, filter_solver_;
   EigenSolveOptions eigen_options_;

@@ -47,6 +47,11 @@ struct WillmoreOptions {
   // Added: solve the Dirac eigenproblem in its complex Hermitian 2V×2V form (same λ, ~2× fewer Cholesky flops)
   // instead of the real symmetric 4V×4V form (docs/design/spherical-map.md §4, §9).
   bool complex_dirac = true;
+  // The needle operator (issue 24 item 3; docs/design/needle-flows.md): H, the mass and the roundness from the
+  // intrinsic Delaunay operator of the current surface (nonnegative weights on needle triangles), and the Poisson
+  // step as a true weighted least-squares fit of the transformed edges — the mollified cotan weights of the mesh's
+  // own triangles clamped to >= 0. Not a recipe field: only the chain's needle retry sets it (map_chain.cpp).
+  bool needle_operator = false;
   bool operator==(const WillmoreOptions&) const = default;
 };
 

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <Eigen/Geometry>
+
 #include "core/volume/binary_volume.hpp"
 #include "core/volume/decimation.hpp"
 #include "core/volume/marching_tetrahedra.hpp"
@@ -115,6 +117,25 @@ Solid mushroom_spine_solid(double neck_ratio) {
   return s;
 }
 
+Solid spine_solid(const SpineParams& p) {
+  // Base knob on the dendrite at the origin, a slightly bent neck up the z axis, the head's capsule across its top;
+  // then the whole spine tilted about the x axis.
+  Solid s;
+  const double neck = p.head_radius * p.neck_ratio, top = 0.15 + p.neck_length;
+  add_tube(s, {{0, 0, 0}, {0, 0, 0.15}}, 0.3, 0.2);
+  add_tube(s, {{0, 0, 0.15}, {0.05, 0, 0.15 + 0.45 * p.neck_length}, {0, 0.03, top}}, std::max(neck * 1.5, 0.06), neck);
+  const double centre = top + 0.7 * p.head_radius;  // the neck enters the head's lower part
+  add_tube(s, {{-0.5 * p.head_length, 0, centre}, {0.5 * p.head_length, 0, centre}}, p.head_radius, 0.9 * p.head_radius);
+  const double t = p.tilt_degrees * kPi / 180;
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(t, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (RoundCone& c : s.parts) {
+    c.a = rotation * c.a;
+    c.b = rotation * c.b;
+  }
+  s.thinnest_radius = neck;
+  return s;
+}
+
 MeshingRecipe recipe_for(Tessellation t) {
   MeshingRecipe r;
   if (t == Tessellation::Fine) return r;
@@ -122,6 +143,12 @@ MeshingRecipe recipe_for(Tessellation t) {
   r.target_vertices = 3000;
   r.needle_smoothing = {0, 1, 2, 4};
   r.needle_vertices = {250, 350, 450, 600, 750, 900};
+  return r;
+}
+
+MeshingRecipe needle_spine_recipe() {
+  MeshingRecipe r = recipe_for(Tessellation::NeedleHeavy);
+  r.needle_more_z_anisotropies = {6, 8};
   return r;
 }
 
@@ -176,6 +203,32 @@ double band_distance(const NeedleStats& s) {
 }  // namespace
 
 Mesh mesh_solid(const Solid& solid, const MeshingRecipe& recipe) {
+  if (!recipe.needle_vertices.empty() && !recipe.needle_more_z_anisotropies.empty()) {
+    // The anisotropy search: the first mesh in the band, else the closest over every anisotropy.
+    MeshingRecipe one = recipe;
+    one.needle_more_z_anisotropies.clear();
+    std::vector<double> anisotropies{recipe.z_anisotropy};
+    anisotropies.insert(anisotropies.end(), recipe.needle_more_z_anisotropies.begin(), recipe.needle_more_z_anisotropies.end());
+    Mesh best;
+    double best_distance = 1e300;
+    for (const double z : anisotropies) {
+      one.z_anisotropy = z;
+      Mesh mesh;
+      try {
+        mesh = mesh_solid(solid, one);
+      } catch (const std::runtime_error&) {
+        continue;  // no closed genus-0 decimation at this anisotropy
+      }
+      const double d = band_distance(needle_stats(mesh));
+      if (d == 0) return mesh;
+      if (d < best_distance) {
+        best_distance = d;
+        best = std::move(mesh);
+      }
+    }
+    if (best.vertex_count() == 0) throw std::runtime_error("hard shape: no needle-heavy decimation stayed a closed genus-0 mesh");
+    return best;
+  }
   const Mesh surface = voxel_surface(solid, recipe);
   const auto check = [](const Mesh& m) {
     const volume::SurfaceTopology t = volume::analyze_surface(m);
@@ -255,6 +308,31 @@ std::vector<HardShape> hard_shape_catalogue() {
   add("quadruped", "quadruped legs 0.05", quadruped_solid(0.05));
   add("mushroom_spine", "mushroom spine neck 1:4", mushroom_spine_solid(0.25));
   add("mushroom_spine", "mushroom spine neck 1:8", mushroom_spine_solid(0.125));
+  return out;
+}
+
+std::vector<HardShape> needle_spine_variants() {
+  struct Variant {
+    const char* name;
+    SpineParams p;
+  };
+  // neck ratio, head radius, neck length, head length, tilt
+  const Variant variants[] = {
+      {"spine neck 1:3, head 0.5, upright", {1.0 / 3, 0.5, 1.0, 0.2, 0}},
+      {"spine neck 1:4, head 0.5, tilt 45", {0.25, 0.5, 1.0, 0.2, 45}},
+      {"spine neck 1:4, head 0.6, lying", {0.25, 0.6, 0.8, 0.3, 90}},
+      {"spine neck 1:5, head 0.4, long neck", {0.2, 0.4, 1.6, 0.1, 0}},
+      {"spine neck 1:5, head 0.5, tilt 30", {0.2, 0.5, 1.0, 0.4, 30}},
+      {"spine neck 1:6, head 0.5, upright", {1.0 / 6, 0.5, 1.0, 0.2, 0}},
+      {"spine neck 1:6, head 0.35, tilt 60", {1.0 / 6, 0.35, 0.9, 0.1, 60}},
+      {"spine neck 1:6, head 0.6, lying", {1.0 / 6, 0.6, 1.2, 0.2, 90}},
+      {"spine neck 1:8, head 0.5, tilt 20", {0.125, 0.5, 1.0, 0.2, 20}},
+      {"spine neck 1:8, head 0.6, short neck", {0.125, 0.6, 0.6, 0.3, 0}},
+      {"spine neck 1:3, head 0.4, lying, long neck", {1.0 / 3, 0.4, 1.5, 0.2, 90}},
+      {"spine neck 1:4, head 0.45, flat head", {0.25, 0.45, 1.1, 0.6, 10}},
+  };
+  std::vector<HardShape> out;
+  for (const Variant& v : variants) out.push_back({"spine_variant", v.name, Tessellation::NeedleHeavy, spine_solid(v.p)});
   return out;
 }
 

@@ -43,6 +43,19 @@ Solid octopus_solid(double arm_tip_ratio = 0.05);  // mantle radius 1, 8 curled 
 Solid quadruped_solid(double leg_ratio = 0.06);    // body half-height 0.45; leg radius leg_ratio
 Solid mushroom_spine_solid(double neck_ratio);    // head radius 0.5, neck radius 0.5 * neck_ratio, base knob
 
+// A dendritic spine with its shape and pose as parameters (the needle-spine variants below): head radius, neck
+// radius as a fraction of it, neck length, a head flattened along the neck (a capsule of length head_length across
+// it otherwise), and the tilt of the neck from the z axis (the coarse axis of the needle recipe's voxels: a spine
+// lying across the z slices gets other staircase needles than one along them).
+struct SpineParams {
+  double neck_ratio = 0.25;     // neck radius / head radius
+  double head_radius = 0.5;
+  double neck_length = 1.0;
+  double head_length = 0.2;     // length of the head's capsule axis, across the neck
+  double tilt_degrees = 0;      // rotation of the whole spine about the x axis
+};
+Solid spine_solid(const SpineParams& p);
+
 enum class Tessellation { Fine, NeedleHeavy };
 
 struct MeshingRecipe {
@@ -57,9 +70,15 @@ struct MeshingRecipe {
   // closest one (the test reports it).
   std::vector<int> needle_smoothing;
   std::vector<long> needle_vertices;
+  // Needle-heavy: further z anisotropies searched, in order, when no mesh at z_anisotropy fell in the band (a
+  // coarser z gives longer staircase terraces, so longer edges; needle_spine_variants use it, the other shapes do
+  // not: the search costs a voxelisation per anisotropy).
+  std::vector<double> needle_more_z_anisotropies;
 };
 
 MeshingRecipe recipe_for(Tessellation t);
+// The needle-heavy recipe with the z anisotropy search 4, 6, 8 (for the spine variants: small solids, cheap to voxelise).
+MeshingRecipe needle_spine_recipe();
 
 // Throws std::runtime_error when the result is not a closed, manifold, one-component, genus-0, outward mesh.
 Mesh mesh_solid(const Solid& solid, const MeshingRecipe& recipe);
@@ -82,5 +101,10 @@ struct HardShape {
 // The parameter sizes of each family (coils 3/6/12 turns with wire 1/10, 1/15, 1/20; dumbbells 1:5, 1:10, 1:20; the
 // octopus; quadrupeds with legs 0.08 and 0.05; mushroom spines with necks 1:4 and 1:8), each in both tessellations.
 std::vector<HardShape> hard_shape_catalogue();
+
+// Decimated needle-heavy dendritic spines for the flow figures of issue 24 item 3 (>= 90 % of them should end the map
+// chain on a flow): 12 shapes and poses (necks 1:3 to 1:8, heads 0.35-0.6, short and long necks, tilts 0-90
+// degrees), family "spine_variant", tessellation NeedleHeavy, meshed with needle_spine_recipe().
+std::vector<HardShape> needle_spine_variants();
 
 }  // namespace wish::testing
