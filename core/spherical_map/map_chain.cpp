@@ -150,9 +150,12 @@ class Chain {
   }
 
  private:
-  bool holding_ok() const {
-    return !outcome_.attempts.empty() && chosen().status == MapStatus::Ok;
+  // An Ok map that ends the search: a needle retry's map with unbounded area distortion does not
+  // (kNeedleMaxAreaDistortion).
+  static bool answers(const MapAttempt& a) {
+    return a.status == MapStatus::Ok && !(a.needle && a.quality.area_distortion > kNeedleMaxAreaDistortion);
   }
+  bool holding_ok() const { return !outcome_.attempts.empty() && answers(chosen()); }
   const MapAttempt& chosen() const { return outcome_.attempts[static_cast<size_t>(outcome_.chosen_attempt)]; }
 
   // Attempts that would repeat or cannot apply (silent: they are not part of this mesh's chain). Sets `start` for
@@ -194,7 +197,7 @@ class Chain {
   bool record(AttemptRun run) {
     const MapAttempt& attempt = run.attempt;
     const bool first = outcome_.attempts.empty();
-    const bool ok = attempt.status == MapStatus::Ok;
+    const bool ok = answers(attempt);
     // An Ok map that needed the local repair and is still distorted is provisional: the rest of the chain (within
     // the budget) may find a map that is bijective as computed and less distorted (measured: the staircase sphere
     // of real_mesh_test, Willmore stalled + repaired K p99 8.3, cMCF 1.1). So is the map of a flow that hit its
@@ -203,7 +206,7 @@ class Chain {
     const bool repaired_and_distorted =
         attempt.quality.repaired_vertices > 0 && attempt.quality.verdict == MapVerdict::Distorted;
     const bool provisional = ok && (repaired_and_distorted || attempt.hit_step_cap);
-    const bool chosen_ok = !first && chosen().status == MapStatus::Ok;
+    const bool chosen_ok = !first && answers(chosen());
     // Ok maps are ranked by method (with prefer_method: the requested one first), then by K p99.
     const auto rank = [&](const MapAttempt& a) { return options_.prefer_method && a.method != options_.method; };
     const bool better_ok = ok && (!chosen_ok || rank(attempt) < rank(chosen()) ||

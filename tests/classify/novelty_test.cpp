@@ -285,7 +285,7 @@ TEST(Novelty, WithinClassWhiteningByHand) {
   ASSERT_TRUE(w.whitening.isApprox(W));
   for (int g = 0; g < 2; ++g)
     for (std::size_t i = 0; i < w.loo_scores[g].size(); ++i) EXPECT_NEAR(w.loo_scores[g][i], e.loo_scores[g][i], 1e-9);
-  for (const Eigen::Vector2d x : {Eigen::Vector2d(0, 0), Eigen::Vector2d(1000, -7.5), Eigen::Vector2d(1000, -9)}) {
+  for (const Eigen::Vector2d& x : {Eigen::Vector2d(0, 0), Eigen::Vector2d(1000, -7.5), Eigen::Vector2d(1000, -9)}) {
     const NoveltyAssessment a = assess_novelty(w, x), b = assess_novelty(e, W * x);
     EXPECT_NEAR(a.score, b.score, 1e-9);
     EXPECT_EQ(a.novel, b.novel);

@@ -215,11 +215,13 @@ TEST(ProgressiveEmbedding, DoesNotRunWhenAnEarlierMethodMaps) {
   for (const MapAttempt& a : r.attempts) EXPECT_NE(a.method, MapMethod::Progressive);
 }
 
-// Shared real meshes on which every other attempt of the default chain leaves flips (Willmore stalls with 20–1,087
-// flipped faces, cMCF and both linear maps fail too): the default chain, as `wish map` runs it, ends on the
-// progressive embedding with a verified map whose area distortion stays bounded (the uniform spreading alone left
-// ~1e6 on the nmv spines). nmv_spine_25 (9,306 vertices) found no kernel point before the kernel was computed
-// exactly (half-plane clipping in the gnomonic chart).
+// Shared real meshes on which every other attempt of the default chain before the needle retry leaves flips
+// (Willmore stalls with 20–1,087 flipped faces, cMCF and both linear maps fail too): the default chain, as `wish map`
+// runs it, ends on the progressive embedding — or on the needle retry's flow (spine_7: Willmore) — with a verified
+// map whose area distortion stays bounded (the uniform spreading alone left ~1e6 on the nmv spines; the needle
+// retry's small-step cMCF 2.6e9 on nmv_spine_3, which the chain therefore does not take: kNeedleMaxAreaDistortion).
+// nmv_spine_25 (9,306 vertices) found no kernel point before the kernel was computed exactly (half-plane clipping in
+// the gnomonic chart).
 TEST(ProgressiveEmbedding, EndsTheDefaultChainOnSharedMeshesThatFailEveryOtherMethod) {
   WISH_SKIP_WITHOUT_SHARED_DATA();
   const std::filesystem::path hard = *testing::shared_data_dir() / "hard";
@@ -231,7 +233,10 @@ TEST(ProgressiveEmbedding, EndsTheDefaultChainOnSharedMeshesThatFailEveryOtherMe
     ASSERT_TRUE(prepared.mappable());
     const SphericalMapResult r = compute_spherical_map(prepared.mesh);
     EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts.back().message;
-    EXPECT_EQ(r.method_used, MapMethod::Progressive);
+    const MapAttempt& chosen = r.attempts.at(static_cast<size_t>(r.chosen_attempt));
+    if (!chosen.needle) {
+      EXPECT_EQ(r.method_used, MapMethod::Progressive);
+    }
     EXPECT_EQ(r.quality.flipped_faces, 0);
     EXPECT_EQ(r.quality.degenerate_faces, 0);
     EXPECT_EQ(r.quality.degree, 1);
