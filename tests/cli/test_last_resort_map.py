@@ -15,18 +15,25 @@ from wish_cli import WISH_BIN, run  # tests/testing
 import coil_tube_mesh
 
 
-@unittest.skipUnless(os.path.exists(WISH_BIN), "wish binary not found at %s (set WISH_BIN)" % WISH_BIN)
-class LastResortCliTest(unittest.TestCase):
+class CoilFixture:
+    """Writes a thin coil of TURNS turns (wire radius 1/20 of the coil radius) to a temporary folder for the class."""
+
+    TURNS = 3.0
+
     @classmethod
     def setUpClass(cls):
         cls.dir = tempfile.mkdtemp(prefix="wish-coil-")
         cls.coil = os.path.join(cls.dir, "coil.off")
         with open(cls.coil, "w") as f:
-            f.write(coil_tube_mesh.off_text(*coil_tube_mesh.coil(turns=3.0, wire=0.05)))
+            f.write(coil_tube_mesh.off_text(*coil_tube_mesh.coil(turns=cls.TURNS, wire=0.05)))
 
     @classmethod
     def tearDownClass(cls):
         shutil.rmtree(cls.dir, ignore_errors=True)
+
+
+@unittest.skipUnless(os.path.exists(WISH_BIN), "wish binary not found at %s (set WISH_BIN)" % WISH_BIN)
+class LastResortCliTest(CoilFixture, unittest.TestCase):
 
     def test_map_gives_a_verified_bijective_map_by_the_progressive_embedding(self):
         out = os.path.join(self.dir, "sphere.off")
@@ -61,24 +68,14 @@ class LastResortCliTest(unittest.TestCase):
 
 
 @unittest.skipUnless(os.path.exists(WISH_BIN), "wish binary not found at %s (set WISH_BIN)" % WISH_BIN)
-class LastResortLongCoilCliTest(unittest.TestCase):
+class LastResortLongCoilCliTest(CoilFixture, unittest.TestCase):
     """A longer thin coil (6 turns, wire 1/20: ~750 wire radii, 7.5K vertices), default `wish map`. Before the pair
     placement of the progressive embedding (progressive_embedding.hpp step 3) its map was bijective but the coil's
     middle underflowed: area distortion exp(mean |log area ratio|) 1.8e10 (uniform spreading; the stretch spreading
     failed a placement). Now the third embedding keeps the faces within a bounded factor of their area share."""
 
+    TURNS = 6.0
     AREA_DISTORTION_BOUND = 1e4
-
-    @classmethod
-    def setUpClass(cls):
-        cls.dir = tempfile.mkdtemp(prefix="wish-long-coil-")
-        cls.coil = os.path.join(cls.dir, "coil.off")
-        with open(cls.coil, "w") as f:
-            f.write(coil_tube_mesh.off_text(*coil_tube_mesh.coil(turns=6.0, wire=0.05)))
-
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.dir, ignore_errors=True)
 
     def test_default_map_is_bijective_with_bounded_area_distortion(self):
         out = os.path.join(self.dir, "sphere.off")
