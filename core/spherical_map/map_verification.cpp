@@ -75,7 +75,7 @@ double smallest_corner_degrees(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i
   return least;
 }
 
-// The 99th percentile (nearest rank, as conformal_p99); reorders v.
+// The 99th percentile, nearest rank (conformal_p99 and its well-shaped share); reorders v.
 double percentile_99(std::vector<double>& v) {
   const size_t idx = std::min(v.size() - 1, static_cast<size_t>(std::ceil(0.99 * static_cast<double>(v.size()))) - 1);
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(idx), v.end());
@@ -130,9 +130,7 @@ MapQuality measure_map(const Eigen::MatrixX3d& input_vertices, const Eigen::Matr
   if (!k.empty()) {
     q.conformal_mean = ksum / static_cast<double>(k.size());
     q.conformal_max = *std::max_element(k.begin(), k.end());
-    const size_t idx = std::min(k.size() - 1, static_cast<size_t>(std::ceil(0.99 * static_cast<double>(k.size()))) - 1);
-    std::nth_element(k.begin(), k.begin() + static_cast<std::ptrdiff_t>(idx), k.end());
-    q.conformal_p99 = k[idx];
+    q.conformal_p99 = percentile_99(k);
     q.conformal_p99_well_shaped = k_well_shaped.empty() ? q.conformal_p99 : percentile_99(k_well_shaped);
     q.area_distortion = std::exp(log_sum / static_cast<double>(k.size()));
   }
