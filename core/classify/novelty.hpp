@@ -6,8 +6,8 @@
 //  * score of class c: the mean distance from the sample to its k nearest members of class c among the
 //    training samples (k = 3 by default, or n_c - 1 for a class of fewer samples);
 //  * calibration (at training time, stored in the model file): every training sample's leave-one-out score against
-//    its OWN class (its k nearest other members), sorted per class — how far a new member of c lies from c's
-//    training members;
+//    its OWN class (its k nearest other members; or cross-validated, below), sorted per class — how far a new
+//    member of c lies from c's training members;
 //  * threshold of class c: the q-quantile of c's leave-one-out scores (linear interpolation, numpy's default),
 //    q = 0.99 unless the caller says otherwise (`wish predict --novelty-quantile`, `wish serve --novelty-quantile`);
 //  * novel: the sample's score is above the threshold of EVERY class — it is unlike each known type, measured on
@@ -42,10 +42,12 @@
 // xi + global), 3.1 % on the meshed UroCell set, 1.3 % on the demo set. Cross-validated scores score each training
 // sample as a new one: against its class's members in the other folds, whitened by the other folds only (10
 // stratified folds, deterministic for the seed): 1.3 %, 2.5 %, 1.1 % on the same splits. At EQUAL false-flag rates
-// the two flag the same share of a left-out type (within 1 point, 4-5 points fewer cross-validated on the meshed
-// set): the choice moves the operating point, it does not make the figure see more. Leave-one-out stays the
-// default for that reason and because it flags more of a new type at the same quantile (the generated set of
-// classify_novelty_test: 96 % against 87 % of a left-out type at 2 % of known members).
+// the two flag about the same share of a left-out type (within 1.5 points; 2.6-4.1 points fewer cross-validated on
+// the meshed set): the choice moves the operating point, it does not make the figure see more. Leave-one-out stays
+// the default for that reason and because it flags more of a new type at the same quantile (the generated set of
+// classify_novelty_test: 96 % against 87 % of a left-out type, 2 % of known members either way). With few training
+// samples per class leave-one-out scores fail: on the bundled model's demo set (about 10 per class) they flagged
+// 9 of 72 held-out known members, cross-validated ones 3 of 72, so that model is calibrated cross-validated.
 // Model format 4 files (no whitening) load and compute their Euclidean figure.
 // Model format 3 files carry the first figure (one reference set: every training sample, one list of leave-one-out
 // scores). They load as one group and compute exactly what they computed when written.
