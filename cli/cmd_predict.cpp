@@ -60,7 +60,7 @@ CommandRunner setup_predict(CLI::App& sub) {
       ->excludes(json);
   sub.add_option("--novelty-quantile", o->novelty_quantile,
                  "Flag a sample novel (none of the known types) when its novelty score against every class is above this "
-                 "quantile of that class's leave-one-out scores (0: the model's own, 0.99 by default)")
+                 "quantile of that class's calibration scores (leave-one-out, or cross-validated in a model trained with --novelty-folds) (0: the model's own, 0.99 by default)")
       ->check(CLI::Range(0.0, 0.999999))->capture_default_str();
   sub.add_flag("--quiet", o->quiet, "No progress line for label volumes");
   add_volume_options(sub, o->volume);

@@ -63,6 +63,7 @@ struct TrainCliOptions {
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   bool early_stop = true;
   double novelty_quantile = 0.99;
+  int novelty_folds = 0;
   std::uint64_t seed = 42;
   int jobs = 0;
   MapMethod method = MapMethod::Cmcf;
@@ -131,9 +132,15 @@ CommandRunner setup_train(CLI::App& sub) {
                "a C whose mean validation accuracy is not above the row's best; default on; --no-early-stop: every "
                "cell)");
   sub.add_option("--novelty-quantile", o->novelty_quantile,
-                 "The model's default novelty threshold: per class, this quantile of the class's leave-one-out k-NN "
-                 "distances (a prediction above every class's says novel: true; predict/serve may override)")
+                 "The model's default novelty threshold: per class, this quantile of the class's leave-one-out (or "
+                 "--novelty-folds cross-validated) k-NN distances (a prediction above every class's says novel: true; predict/serve may override)")
       ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
+  sub.add_option("--novelty-folds", o->novelty_folds,
+                 "Novelty calibration scores: 0 leave-one-out (model format 5), N >= 2 N-fold cross-validated (format 6: "
+                 "the quantile's false-flag rate holds more closely, fewer new types flagged; docs/benchmarks.md \"Novelty\")")
+      ->check(CLI::Range(0, 100))
+      ->check([](const std::string& v) { return v == "1" ? std::string("one fold is no calibration: 0 (leave-one-out) or at least 2") : std::string(); })
+      ->capture_default_str();
   sub.add_flag("--refit-all", o->refit_all, "Refit the final model on all samples (default: on the training split)");
   sub.add_flag("--no-compare", o->no_compare, "Do not train the other feature families for comparison");
   sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
@@ -233,6 +240,7 @@ CommandRunner setup_train(CLI::App& sub) {
     t.grid.jobs = o->jobs;
     t.grid.early_stop = o->early_stop;
     t.novelty_quantile = o->novelty_quantile;
+    t.novelty_folds = o->novelty_folds;
     t.grid_splits = o->grid_splits;
     t.test_fraction = o->test_fraction;
     t.nested_repeats = o->nested_repeats;

@@ -46,11 +46,11 @@ from wish_client import describe_csv  # noqa: E402
 from wish_model_json import dumps, seal  # noqa: E402
 
 FORMAT_NAME, FORMAT_VERSION = "wish-classifier", 2
-# Versions this module reads. 3, 4 and 5 only add the optional novelty block (core/classify/novelty.hpp: 3 one
-# reference set, 4 per class, 5 per class in a whitened space), which a converted model does not carry, so reading
-# them for their recipe is safe; what this module writes stays version 2 (no novelty block: the model answers
-# "novel": null).
-READABLE_VERSIONS = (1, 2, 3, 4, 5)
+# Versions this module reads. 3 to 6 only add the optional novelty block (core/classify/novelty.hpp: 3 one
+# reference set, 4 per class, 5 per class in a whitened space, 6 with cross-validated calibration scores), which a
+# converted model does not carry, so reading them for their recipe is safe; what this module writes stays version 2
+# (no novelty block: the model answers "novel": null).
+READABLE_VERSIONS = (1, 2, 3, 4, 5, 6)
 
 #: The descriptor settings come from a model file written by `wish train` (by default the repository's bundled
 #: model), never from a copy of the C++ defaults that could drift: the model file lists every setting.

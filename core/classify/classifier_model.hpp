@@ -76,7 +76,9 @@ class ClassifierModel {
   // Format-3 files keep loading and computing their one-set figure.
   // 5: payload.novelty.whitening (the within-class whitening of the novelty distance; novelty.hpp). Format-4
   // files keep loading and computing their Euclidean figure.
-  static constexpr int kFormatVersion = 5;
+  // 6: payload.novelty.calibration_folds (the per-class scores are cross-validated, not leave-one-out; an option,
+  // novelty.hpp). Prediction computes the same figure. Models with leave-one-out scores are still written as 5.
+  static constexpr int kFormatVersion = 6;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.

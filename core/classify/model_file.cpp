@@ -275,6 +275,8 @@ json payload_without_novelty(const ClassifierModel::State& s);
 //  format 4: per class — {k, quantile, reference, reference_classes: [class index per row],
 //            loo_scores: [[...] per class]}.
 //  format 5: format 4's keys and whitening: [[...] per feature] (the symmetric matrix W of novelty.hpp).
+//  format 6: format 5's keys and calibration_folds (>= 2: loo_scores are cross-validated scores, novelty.hpp).
+//            A format-6 block without whitening (a Euclidean figure, cross-validated) is written as 6 too.
 // Each format's keys are exactly its own: a format-3 reader meets reference_classes and refuses the file by it
 // (model_version), and this build reads a format-3 block as the one-set figure it was written as.
 json novelty_to_json(const NoveltyCalibration& c) {
@@ -283,6 +285,7 @@ json novelty_to_json(const NoveltyCalibration& c) {
     j["reference_classes"] = c.reference_class;
     j["loo_scores"] = c.loo_scores;
     if (c.whitening.size() != 0) j["whitening"] = rows(c.whitening);
+    if (c.calibration_folds > 0) j["calibration_folds"] = c.calibration_folds;
   } else {
     j["loo_scores"] = c.loo_scores.front();
   }
@@ -293,8 +296,11 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
   if (!j.is_object()) invalid("payload.novelty is not an object");
   NoveltyCalibration c;
   c.per_class = version >= 4;
-  const bool whitened = version >= 5;
-  if (whitened)
+  const bool whitened = version >= 5, cross_validated = version >= 6;
+  if (cross_validated)
+    refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores", "whitening", "calibration_folds"},
+                        "payload.novelty");
+  else if (whitened)
     refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores", "whitening"}, "payload.novelty");
   else if (c.per_class)
     refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores"}, "payload.novelty");
@@ -308,7 +314,14 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
     const json& lists = field(j, "loo_scores", "novelty");
     if (!lists.is_array()) invalid("novelty.loo_scores is not an array (one list per class)");
     for (const auto& l : lists) c.loo_scores.push_back(numbers(l, "novelty.loo_scores[]"));
-    if (whitened) {
+    if (cross_validated) {
+      const std::int64_t folds = integer(j, "calibration_folds", "novelty");
+      if (folds < 2 || folds > c.reference.rows())
+        invalid("novelty.calibration_folds = " + std::to_string(folds) + " must be in 2.." + std::to_string(c.reference.rows()));
+      c.calibration_folds = static_cast<int>(folds);
+    }
+    // Format 6 writes whitening only for a whitened figure; format 5 always had it.
+    if (whitened && (!cross_validated || j.contains("whitening"))) {
       c.whitening = matrix(field(j, "whitening", "novelty"), n_features, "novelty.whitening");
       if (c.whitening.rows() != n_features)
         invalid("novelty.whitening has " + std::to_string(c.whitening.rows()) + " rows for " + std::to_string(n_features) + " features");
@@ -422,9 +435,13 @@ json document_of(const ClassifierModel::State& s) {
   json payload = payload_of(s);
   const std::string seal = Sha256::hex(payload.dump());
   // The oldest version that holds what the file has (3: the one-set novelty block, 4: the per-class one, 5: the
-  // whitened per-class one), so
+  // whitened per-class one, 6: cross-validated calibration scores), so
   // readers of older versions refuse it by number and a model without novelty stays readable by version 2.
-  const int version = !s.novelty ? 2 : !s.novelty->per_class ? 3 : s.novelty->whitening.size() == 0 ? 4 : 5;
+  const int version = !s.novelty                        ? 2
+                      : !s.novelty->per_class            ? 3
+                      : s.novelty->calibration_folds > 0 ? 6
+                      : s.novelty->whitening.size() == 0 ? 4
+                                                         : 5;
   return {{"format", kFormatName}, {"format_version", version}, {"payload", std::move(payload)},
           {"payload_sha256", seal}};
 }

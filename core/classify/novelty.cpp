@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/classify/splits.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
@@ -53,8 +54,44 @@ Eigen::MatrixXd measured_reference(const NoveltyCalibration& c) {
   return c.whitening.size() == 0 ? c.reference : Eigen::MatrixXd(c.reference * c.whitening);
 }
 
+// Cross-validated calibration scores (format 6): per fold, the whitening of the other folds' rows and each held-out
+// row's score against its class's rows in the other folds, with the class's own k (group_k of the whole class,
+// at most the rows left in the other folds). Stratified folds deal a class's members to consecutive folds, so a
+// class of n >= 2 members keeps at least one member outside any fold.
+void cross_validated_scores(NoveltyCalibration& c, const Eigen::MatrixXd& Xs, int n_groups, NoveltyDistance distance,
+                            int folds, std::uint64_t seed) {
+  const int n = static_cast<int>(Xs.rows());
+  std::vector<std::size_t> members(static_cast<std::size_t>(n_groups), 0);
+  for (int g : c.reference_class) ++members[static_cast<std::size_t>(g)];
+  std::vector<double> d;
+  for (const Split& fold : stratified_k_fold(c.reference_class, std::min(folds, n), seed)) {
+    Eigen::MatrixXd rest(static_cast<Eigen::Index>(fold.train.size()), Xs.cols());
+    std::vector<int> rest_class;
+    for (std::size_t r = 0; r < fold.train.size(); ++r) {
+      rest.row(static_cast<Eigen::Index>(r)) = Xs.row(fold.train[r]);
+      rest_class.push_back(c.reference_class[static_cast<std::size_t>(fold.train[r])]);
+    }
+    const Eigen::MatrixXd W = distance == NoveltyDistance::Whitened ? within_class_whitening(rest, rest_class)
+                                                                    : Eigen::MatrixXd::Identity(Xs.cols(), Xs.cols());
+    const Eigen::MatrixXd M = rest * W;  // W symmetric: each row times W
+    for (int i : fold.test) {
+      const int g = c.reference_class[static_cast<std::size_t>(i)];
+      if (members[static_cast<std::size_t>(g)] < 2) continue;  // one sample: no score (novelty_threshold borrows)
+      const Eigen::RowVectorXd xi = Xs.row(i) * W;
+      d.clear();
+      for (std::size_t r = 0; r < rest_class.size(); ++r)
+        if (rest_class[r] == g) d.push_back((M.row(static_cast<Eigen::Index>(r)) - xi).norm());
+      if (d.empty()) throw InvalidInputError("training_data", "novelty calibration: a fold holds every member of a class");
+      const int kg = std::min(group_k(c, members[static_cast<std::size_t>(g)]), static_cast<int>(d.size()));
+      c.loo_scores[static_cast<std::size_t>(g)].push_back(mean_of_smallest(d, kg));
+    }
+  }
+  for (auto& s : c.loo_scores) std::sort(s.begin(), s.end());
+}
+
 NoveltyCalibration calibrate_groups(const Eigen::MatrixXd& Xs, std::vector<int> groups, int n_groups, int k,
-                                    double quantile, bool per_class, NoveltyDistance distance) {
+                                    double quantile, bool per_class, NoveltyDistance distance, int folds = 0,
+                                    std::uint64_t seed = 0) {
   if (Xs.rows() < 2) throw InvalidInputError("training_data", "novelty calibration needs at least 2 training samples");
   NoveltyCalibration c;
   c.per_class = per_class;
@@ -63,8 +100,13 @@ NoveltyCalibration calibrate_groups(const Eigen::MatrixXd& Xs, std::vector<int> 
   c.reference = Xs;
   c.reference_class = std::move(groups);
   if (distance == NoveltyDistance::Whitened) c.whitening = within_class_whitening(Xs, c.reference_class);
-  const Eigen::MatrixXd M = measured_reference(c);
   c.loo_scores.resize(static_cast<std::size_t>(n_groups));
+  if (folds > 0) {
+    c.calibration_folds = std::min(folds, static_cast<int>(Xs.rows()));
+    cross_validated_scores(c, Xs, n_groups, distance, c.calibration_folds, seed);
+    return c;
+  }
+  const Eigen::MatrixXd M = measured_reference(c);
   std::vector<double> d;
   for (int g = 0; g < n_groups; ++g) {
     const auto rows = rows_of_group(c, g);
@@ -123,12 +165,15 @@ Eigen::MatrixXd within_class_whitening(const Eigen::MatrixXd& Xs, const std::vec
 }
 
 NoveltyCalibration calibrate_novelty(const Eigen::MatrixXd& Xs, const std::vector<int>& y, int k, double quantile,
-                                     NoveltyDistance distance) {
+                                     NoveltyDistance distance, int folds, std::uint64_t seed) {
   if (static_cast<Eigen::Index>(y.size()) != Xs.rows())
     throw InvalidInputError("training_data", "novelty calibration: " + std::to_string(y.size()) + " labels for " +
                                                  std::to_string(Xs.rows()) + " samples");
+  if (folds == 1 || folds < 0)
+    throw InvalidInputError("invalid_parameter", "novelty calibration folds must be 0 (leave-one-out) or at least 2, got " +
+                                                     std::to_string(folds));
   const int n_groups = y.empty() ? 0 : *std::max_element(y.begin(), y.end()) + 1;
-  return calibrate_groups(Xs, y, n_groups, k, quantile, true, distance);
+  return calibrate_groups(Xs, y, n_groups, k, quantile, true, distance, folds, seed);
 }
 
 NoveltyCalibration calibrate_novelty_one_set(const Eigen::MatrixXd& Xs, int k, double quantile) {
@@ -226,6 +271,9 @@ void validate_novelty(const NoveltyCalibration& c, Eigen::Index n_features, int 
     if ((c.whitening - c.whitening.transpose()).norm() > 1e-9 * c.whitening.norm()) bad("whitening is not symmetric");
     if (!c.per_class) bad("whitening without per-class calibration");
   }
+  if (c.calibration_folds < 0 || c.calibration_folds == 1 || c.calibration_folds > n)
+    bad("calibration_folds = " + std::to_string(c.calibration_folds) + " must be 0 (leave-one-out) or in 2.." + std::to_string(n));
+  if (c.calibration_folds > 0 && !c.per_class) bad("cross-validated calibration without per-class calibration");
 }
 
 }  // namespace wish

@@ -265,13 +265,14 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
     // On the samples the final SVM was fitted on, in its standardised space.
     state->novelty = options.refit_on_all
                          ? calibrate_novelty(final_scaler.transform(X), y, options.novelty_k, options.novelty_quantile,
-                                             options.novelty_distance)
+                                             options.novelty_distance, options.novelty_folds, options.seed)
                          : calibrate_novelty(Xs_train, y_train, options.novelty_k, options.novelty_quantile,
-                                             options.novelty_distance);
+                                             options.novelty_distance, options.novelty_folds, options.seed);
     for (int c = 0; c < k; ++c)
       rep.novelty_class_thresholds.push_back(novelty_threshold(*state->novelty, options.novelty_quantile, c));
     rep.novelty_threshold = *std::max_element(rep.novelty_class_thresholds.begin(), rep.novelty_class_thresholds.end());
     rep.novelty_quantile = options.novelty_quantile;
+    rep.novelty_folds = state->novelty->calibration_folds;
     if (!options.refit_on_all)  // the test split is new to this model: how many of the known types it flags
       for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) {
         const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose());

@@ -40,6 +40,7 @@ struct TrainOptions {
   int novelty_k = 3;               // per class; 3 flagged more left-out members than 5 at the same false-flag rate (docs/benchmarks.md)
   double novelty_quantile = 0.99;  // the model's default threshold quantile
   NoveltyDistance novelty_distance = NoveltyDistance::Whitened;  // format 5; Euclidean: format 4's figure
+  int novelty_folds = 0;           // 0: leave-one-out calibration scores (format 5); >= 2: cross-validated (format 6)
   std::uint64_t seed = 42;
   // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
   // class loses more than loss_policy.max_class_loss of its meshes (training_losses.hpp).
@@ -81,6 +82,7 @@ struct TrainingReport {
   std::vector<double> novelty_class_thresholds;  // per class (model order), at the model's quantile; empty without calibration
   double novelty_threshold = 0;                  // the largest of them; 0 without calibration
   double novelty_quantile = 0;
+  int novelty_folds = 0;                         // the calibration's folds (0: leave-one-out)
 };
 
 struct NestedCvOptions {

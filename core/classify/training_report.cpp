@@ -70,7 +70,9 @@ std::string training_report_table(const TrainingReport& r) {
     int flagged = 0;
     for (bool b : r.test_novel) flagged += b;
     o << "novelty: a sample is novel above every class's threshold (the " << fmt("%.3g", r.novelty_quantile)
-      << " quantile of the class's leave-one-out k-NN distances):";
+      << " quantile of the class's "
+      << (r.novelty_folds > 0 ? std::to_string(r.novelty_folds) + "-fold cross-validated" : std::string("leave-one-out"))
+      << " k-NN distances):";
     for (std::size_t c = 0; c < r.novelty_class_thresholds.size() && c < r.classes.size(); ++c)
       o << " " << r.classes[c] << " " << fmt("%.4g", r.novelty_class_thresholds[c]);
     if (!r.test_novel.empty()) o << "; " << flagged << " of " << r.test_novel.size() << " held-out samples flagged novel";

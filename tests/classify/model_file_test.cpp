@@ -353,6 +353,44 @@ TEST(ModelFile, NoveltyBlockIsVersion5OptionalAndChecked) {
   }
 }
 
+// Cross-validated calibration scores (the --novelty-folds option): written as format 6 with calibration_folds, read
+// back to the same figure; a format-5 reader knows no calibration_folds and refuses the block by it; bad fold counts
+// are refused. Without the option the file stays format 5 (above).
+TEST(ModelFile, CrossValidatedNoveltyIsVersion6AndChecked) {
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  opts.novelty_folds = 10;
+  const ClassifierModel model = train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+  ASSERT_EQ(model.novelty_calibration()->calibration_folds, 10);
+  const auto doc = nlohmann::json::parse(model.to_json_text());
+  EXPECT_EQ(doc["format_version"], 6);
+  EXPECT_EQ(doc["payload"]["novelty"]["calibration_folds"], 10);
+  const auto sample = testing::synthetic_samples(3, 1, 5).front().features;
+  const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
+  EXPECT_EQ(loaded.novelty_calibration()->calibration_folds, 10);
+  EXPECT_EQ(loaded.novelty_calibration()->loo_scores, model.novelty_calibration()->loo_scores);
+  EXPECT_EQ(loaded.predict(sample).novelty->score, model.predict(sample).novelty->score);
+  EXPECT_EQ(loaded.to_json_text(), model.to_json_text());
+  // Same samples, same score at prediction; other calibration scores than leave-one-out.
+  EXPECT_EQ(trained().predict(sample).novelty->score, model.predict(sample).novelty->score);
+  EXPECT_NE(trained().novelty_calibration()->loo_scores, model.novelty_calibration()->loo_scores);
+  {
+    auto d = doc;
+    d["format_version"] = 5;
+    expect_refused(reseal(d), "model_version", "payload.novelty.calibration_folds");
+  }
+  for (const int folds : {1, -3, 10000}) {
+    auto d = doc;
+    d["payload"]["novelty"]["calibration_folds"] = folds;
+    expect_refused(reseal(d), "model_invalid", "calibration_folds");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"].erase("calibration_folds");
+    expect_refused(reseal(d), "model_invalid", "calibration_folds");
+  }
+}
+
 std::filesystem::path fixture_dir() { return testing::project_data_dir().parent_path() / "tests" / "classify" / "data"; }
 
 // A model file of format version 3 (main df31c18's `wish train` on half the demo descriptors without the neurons,
@@ -428,6 +466,47 @@ TEST(ModelFileMigration, FormatVersion4KeepsItsEuclideanNoveltyFigure) {
     EXPECT_NEAR(p.novelty->p_value, std::stod(row[p_value]), 1e-9) << table.samples[i].id;
   }
   EXPECT_EQ(nlohmann::json::parse(model.to_json_text())["format_version"], 4);
+}
+
+// A model file of format version 5 (the default model as scripts/make-default-model.sh made it with the build of
+// main 0041f96, committed as a fixture; leave-one-out scores, whitened) loads and computes the labels, scores,
+// p-values and flags that build printed (`wish predict --csv` on data/models/demo-descriptors.csv), and is saved
+// again as format 5, byte for byte.
+TEST(ModelFileMigration, FormatVersion5KeepsItsFigure) {
+  const auto path = fixture_dir() / "model_format_v5.json";
+  const ClassifierModel model = ClassifierModel::load(path);
+  ASSERT_TRUE(model.has_novelty());
+  EXPECT_EQ(model.novelty_calibration()->calibration_folds, 0);
+  EXPECT_NE(model.novelty_calibration()->whitening.size(), 0);
+  std::ifstream expected_in(fixture_dir() / "model_format_v5_predictions.csv");
+  std::stringstream expected_text;
+  expected_text << expected_in.rdbuf();
+  const auto expected = parse_csv(expected_text.str());
+  std::ifstream csv_in(testing::project_data_dir() / "models" / "demo-descriptors.csv");
+  std::stringstream text;
+  text << csv_in.rdbuf();
+  const auto table = read_descriptor_table(text.str());
+  ASSERT_EQ(expected.size(), table.samples.size() + 1);
+  auto column = [&](const std::string& name) {
+    const auto c = std::find(expected[0].begin(), expected[0].end(), name) - expected[0].begin();
+    EXPECT_LT(c, static_cast<long>(expected[0].size())) << name;
+    return static_cast<std::size_t>(c);
+  };
+  const std::size_t label = column("label"), novel = column("novel"), score = column("novelty_score"),
+                    p_value = column("novelty_p_value");
+  for (std::size_t i = 0; i < table.samples.size(); ++i) {
+    const auto& row = expected[i + 1];
+    const Prediction p = model.predict(table.samples[i].features);
+    ASSERT_TRUE(p.novelty);
+    EXPECT_EQ(p.label, row[label]) << table.samples[i].id;
+    EXPECT_EQ(p.novelty->novel, row[novel] == "true") << table.samples[i].id;
+    EXPECT_NEAR(p.novelty->score, std::stod(row[score]), 1e-8 * std::stod(row[score])) << table.samples[i].id;
+    EXPECT_NEAR(p.novelty->p_value, std::stod(row[p_value]), 1e-9) << table.samples[i].id;
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream file_text;
+  file_text << in.rdbuf();
+  EXPECT_EQ(model.to_json_text(), file_text.str());
 }
 
 // A model file of format version 1 (the bundled default model as main cfdc7a1 wrote it, committed as a fixture)
