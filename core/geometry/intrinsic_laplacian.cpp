@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <deque>
 #include <string>
-#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -258,8 +257,6 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
   // 3. Assemble L and M on the (flipped) triangulation.
   out.faces.resize(nf, 3);
   out.mass = Eigen::VectorXd::Zero(nv);
-  std::unordered_map<std::uint64_t, double> weight;
-  weight.reserve(static_cast<size_t>(3 * nf));
   for (Eigen::Index f = 0; f < nf; ++f) {
     const auto& fc = m.face[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k) out.faces(f, k) = fc[static_cast<size_t>(k)];
@@ -267,35 +264,70 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
                                                    m.len(static_cast<int>(3 * f + 2)));
     for (int k = 0; k < 3; ++k) out.mass[fc[static_cast<size_t>(k)]] += area / 3.0;
   }
-  for (size_t h = 0; h < m.twin.size(); ++h) {
-    const int i = m.tail(static_cast<int>(h)), j = m.tail(HalfedgeMesh::next(static_cast<int>(h)));
-    if (i == j) continue;  // a loop edge of the Δ-complex: x_i − x_i = 0 contributes nothing
-    const int lo = std::min(i, j), hi = std::max(i, j);
-    weight[(static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi)] += 0.5 * m.cot_opposite_of(static_cast<int>(h));
+  // w_ij = ½ Σ cot over the halfedges between i and j (two on a mesh edge, more on a Δ-complex edge after flips).
+  // The halfedges are grouped by their lower endpoint (counting sort), then ordered by the upper one and their own
+  // index, so the edges come out sorted by (i, j) and each weight is summed in halfedge order; L is then written in
+  // compressed columns directly. (A hash map of the vertex pairs and a triplet list did the same at ~3 ms per
+  // operator on 10K vertices, each flow step.)
+  struct Halfedge {
+    int upper, h;
+    bool operator<(const Halfedge& o) const { return upper != o.upper ? upper < o.upper : h < o.h; }
+  };
+  std::vector<int> first(static_cast<size_t>(nv) + 1, 0);
+  const int halfedges = static_cast<int>(m.twin.size());
+  for (int h = 0; h < halfedges; ++h) {
+    const int i = m.tail(h), j = m.tail(HalfedgeMesh::next(h));
+    if (i != j) ++first[static_cast<size_t>(std::min(i, j)) + 1];  // a loop edge x_i − x_i contributes nothing
   }
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(4 * weight.size() + static_cast<size_t>(nv));
-  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
-  out.edges.reserve(weight.size());
-  for (const auto& [k, w0] : weight) {
-    double w = w0;
-    const int i = static_cast<int>(k >> 32), j = static_cast<int>(k & 0xffffffffu);
-    if (options.kind == LaplacianKind::IntrinsicDelaunay && w < 0) {
-      ++stats.negative_weights_after;  // only after a flip cap, or rounding on cocircular quads
-      w = 0;
+  for (Eigen::Index v = 0; v < nv; ++v) first[static_cast<size_t>(v) + 1] += first[static_cast<size_t>(v)];
+  std::vector<Halfedge> by_lower(static_cast<size_t>(first.back()));
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (int h = 0; h < halfedges; ++h) {
+      const int i = m.tail(h), j = m.tail(HalfedgeMesh::next(h));
+      if (i != j) by_lower[static_cast<size_t>(fill[static_cast<size_t>(std::min(i, j))]++)] = {std::max(i, j), h};
     }
-    out.edges.push_back({i, j, w});
-    triplets.emplace_back(i, j, -w);
-    triplets.emplace_back(j, i, -w);
-    diag[i] += w;
-    diag[j] += w;
   }
-  for (Eigen::Index i = 0; i < nv; ++i) triplets.emplace_back(static_cast<int>(i), static_cast<int>(i), diag[i]);
-  out.laplacian.resize(nv, nv);
-  out.laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  out.laplacian.makeCompressed();
-  std::sort(out.edges.begin(), out.edges.end(),
-            [](const IntrinsicEdgeWeight& p, const IntrinsicEdgeWeight& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
+  out.edges.reserve(by_lower.size() / 2);
+  for (Eigen::Index lo = 0; lo < nv; ++lo) {
+    const auto begin = by_lower.begin() + first[static_cast<size_t>(lo)], end = by_lower.begin() + first[static_cast<size_t>(lo) + 1];
+    std::sort(begin, end);
+    for (auto it = begin; it != end;) {
+      const int hi = it->upper;
+      double w = 0;
+      for (; it != end && it->upper == hi; ++it) w += 0.5 * m.cot_opposite_of(it->h);
+      if (options.kind == LaplacianKind::IntrinsicDelaunay && w < 0) {
+        ++stats.negative_weights_after;  // only after a flip cap, or rounding on cocircular quads
+        w = 0;
+      }
+      out.edges.push_back({static_cast<int>(lo), hi, w});
+      diag[lo] += w;
+      diag[hi] += w;
+    }
+  }
+  // Column c: rows i < c (edges (i, c), met in increasing i), the diagonal, rows j > c (edges (c, j), increasing j).
+  Eigen::SparseMatrix<double>& l = out.laplacian;
+  l.resize(nv, nv);
+  l.resizeNonZeros(static_cast<Eigen::Index>(2 * out.edges.size()) + nv);
+  int* outer = l.outerIndexPtr();
+  int* inner = l.innerIndexPtr();
+  double* value = l.valuePtr();
+  std::vector<int> next(static_cast<size_t>(nv), 1);  // entries per column (the diagonal), then the write position
+  for (const IntrinsicEdgeWeight& e : out.edges) ++next[static_cast<size_t>(e.i)], ++next[static_cast<size_t>(e.j)];
+  outer[0] = 0;
+  for (Eigen::Index c = 0; c < nv; ++c) {
+    outer[c + 1] = outer[c] + next[static_cast<size_t>(c)];
+    next[static_cast<size_t>(c)] = outer[c];
+  }
+  auto put = [&](int column, int row, double v) {
+    const int p = next[static_cast<size_t>(column)]++;
+    inner[p] = row;
+    value[p] = v;
+  };
+  for (const IntrinsicEdgeWeight& e : out.edges) put(e.j, e.i, -e.weight);
+  for (Eigen::Index c = 0; c < nv; ++c) put(static_cast<int>(c), static_cast<int>(c), diag[c]);
+  for (const IntrinsicEdgeWeight& e : out.edges) put(e.i, e.j, -e.weight);
   return out;
 }
 
