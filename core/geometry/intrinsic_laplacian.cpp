@@ -65,10 +65,21 @@ struct HalfedgeMesh {
   static int next(int h) { return 3 * (h / 3) + (h % 3 + 1) % 3; }
   int tail(int h) const { return face[static_cast<size_t>(h / 3)][static_cast<size_t>(h % 3)]; }
   double len(int h) const { return length[static_cast<size_t>(h)]; }
+  // Per face, the area from its three lengths (Kahan's formula is symmetric in them, so this is the value
+  // cot_opposite() computes from any corner); empty while the lengths change (flips). Computed once instead of
+  // once per cotangent: five area evaluations per face fewer in every operator.
+  std::vector<double> face_area;
+  void cache_face_areas() {
+    face_area.resize(face.size());
+    for (size_t f = 0; f < face.size(); ++f)
+      face_area[f] = triangle_area_from_lengths(length[3 * f], length[3 * f + 1], length[3 * f + 2]);
+  }
   // cot of the corner opposite halfedge h in its face.
   double cot_opposite_of(int h) const {
     const int h1 = next(h), h2 = next(h1);
-    return cot_opposite(len(h1), len(h2), len(h));
+    if (face_area.empty()) return cot_opposite(len(h1), len(h2), len(h));
+    const double a = len(h1), b = len(h2), c = len(h);
+    return (a * a + b * b - c * c) / (4.0 * face_area[static_cast<size_t>(h / 3)]);
   }
   double edge_cot_sum(int h) const { return cot_opposite_of(h) + cot_opposite_of(twin[static_cast<size_t>(h)]); }
 };
@@ -201,14 +212,13 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
     for (double& l : m.length) l += eps;
   stats.epsilon = eps;
   stats.relative_epsilon = eps / mean;
+  m.cache_face_areas();
 
   // Input-face areas and cotangents from the (mollified) lengths.
   out.input_face_areas.resize(nf);
   out.input_cotangents.resize(nf, 3);
   for (Eigen::Index f = 0; f < nf; ++f) {
-    const double l0 = m.len(static_cast<int>(3 * f)), l1 = m.len(static_cast<int>(3 * f + 1)),
-                 l2 = m.len(static_cast<int>(3 * f + 2));
-    out.input_face_areas[f] = triangle_area_from_lengths(l0, l1, l2);
+    out.input_face_areas[f] = m.face_area[static_cast<size_t>(f)];
     // Corner k is opposite halfedge (k+1) (from corner k+1 to k+2).
     for (int k = 0; k < 3; ++k) out.input_cotangents(f, k) = m.cot_opposite_of(static_cast<int>(3 * f + (k + 1) % 3));
   }
@@ -217,6 +227,7 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
 
   // 2. Intrinsic Delaunay flips.
   if (options.kind == LaplacianKind::IntrinsicDelaunay) {
+    m.face_area.clear();  // flips change lengths: areas from the lengths again until the flips are done
     std::vector<int> degree(static_cast<size_t>(nv), 0);
     for (const auto& fc : m.face)
       for (int v : fc) ++degree[static_cast<size_t>(v)];
@@ -255,13 +266,13 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
   }
 
   // 3. Assemble L and M on the (flipped) triangulation.
+  if (m.face_area.empty()) m.cache_face_areas();
   out.faces.resize(nf, 3);
   out.mass = Eigen::VectorXd::Zero(nv);
   for (Eigen::Index f = 0; f < nf; ++f) {
     const auto& fc = m.face[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k) out.faces(f, k) = fc[static_cast<size_t>(k)];
-    const double area = triangle_area_from_lengths(m.len(static_cast<int>(3 * f)), m.len(static_cast<int>(3 * f + 1)),
-                                                   m.len(static_cast<int>(3 * f + 2)));
+    const double area = m.face_area[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k) out.mass[fc[static_cast<size_t>(k)]] += area / 3.0;
   }
   // w_ij = ½ Σ cot over the halfedges between i and j (two on a mesh edge, more on a Δ-complex edge after flips).
