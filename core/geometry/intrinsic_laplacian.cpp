@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <deque>
 #include <string>
-#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -66,10 +65,21 @@ struct HalfedgeMesh {
   static int next(int h) { return 3 * (h / 3) + (h % 3 + 1) % 3; }
   int tail(int h) const { return face[static_cast<size_t>(h / 3)][static_cast<size_t>(h % 3)]; }
   double len(int h) const { return length[static_cast<size_t>(h)]; }
+  // Per face, the area from its three lengths (Kahan's formula is symmetric in them, so this is the value
+  // cot_opposite() computes from any corner); empty while the lengths change (flips). Computed once instead of
+  // once per cotangent: five area evaluations per face fewer in every operator.
+  std::vector<double> face_area;
+  void cache_face_areas() {
+    face_area.resize(face.size());
+    for (size_t f = 0; f < face.size(); ++f)
+      face_area[f] = triangle_area_from_lengths(length[3 * f], length[3 * f + 1], length[3 * f + 2]);
+  }
   // cot of the corner opposite halfedge h in its face.
   double cot_opposite_of(int h) const {
     const int h1 = next(h), h2 = next(h1);
-    return cot_opposite(len(h1), len(h2), len(h));
+    if (face_area.empty()) return cot_opposite(len(h1), len(h2), len(h));
+    const double a = len(h1), b = len(h2), c = len(h);
+    return (a * a + b * b - c * c) / (4.0 * face_area[static_cast<size_t>(h / 3)]);
   }
   double edge_cot_sum(int h) const { return cot_opposite_of(h) + cot_opposite_of(twin[static_cast<size_t>(h)]); }
 };
@@ -202,14 +212,13 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
     for (double& l : m.length) l += eps;
   stats.epsilon = eps;
   stats.relative_epsilon = eps / mean;
+  m.cache_face_areas();
 
   // Input-face areas and cotangents from the (mollified) lengths.
   out.input_face_areas.resize(nf);
   out.input_cotangents.resize(nf, 3);
   for (Eigen::Index f = 0; f < nf; ++f) {
-    const double l0 = m.len(static_cast<int>(3 * f)), l1 = m.len(static_cast<int>(3 * f + 1)),
-                 l2 = m.len(static_cast<int>(3 * f + 2));
-    out.input_face_areas[f] = triangle_area_from_lengths(l0, l1, l2);
+    out.input_face_areas[f] = m.face_area[static_cast<size_t>(f)];
     // Corner k is opposite halfedge (k+1) (from corner k+1 to k+2).
     for (int k = 0; k < 3; ++k) out.input_cotangents(f, k) = m.cot_opposite_of(static_cast<int>(3 * f + (k + 1) % 3));
   }
@@ -218,6 +227,7 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
 
   // 2. Intrinsic Delaunay flips.
   if (options.kind == LaplacianKind::IntrinsicDelaunay) {
+    m.face_area.clear();  // flips change lengths: areas from the lengths again until the flips are done
     std::vector<int> degree(static_cast<size_t>(nv), 0);
     for (const auto& fc : m.face)
       for (int v : fc) ++degree[static_cast<size_t>(v)];
@@ -256,46 +266,79 @@ IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eig
   }
 
   // 3. Assemble L and M on the (flipped) triangulation.
+  if (m.face_area.empty()) m.cache_face_areas();
   out.faces.resize(nf, 3);
   out.mass = Eigen::VectorXd::Zero(nv);
-  std::unordered_map<std::uint64_t, double> weight;
-  weight.reserve(static_cast<size_t>(3 * nf));
   for (Eigen::Index f = 0; f < nf; ++f) {
     const auto& fc = m.face[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k) out.faces(f, k) = fc[static_cast<size_t>(k)];
-    const double area = triangle_area_from_lengths(m.len(static_cast<int>(3 * f)), m.len(static_cast<int>(3 * f + 1)),
-                                                   m.len(static_cast<int>(3 * f + 2)));
+    const double area = m.face_area[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k) out.mass[fc[static_cast<size_t>(k)]] += area / 3.0;
   }
-  for (size_t h = 0; h < m.twin.size(); ++h) {
-    const int i = m.tail(static_cast<int>(h)), j = m.tail(HalfedgeMesh::next(static_cast<int>(h)));
-    if (i == j) continue;  // a loop edge of the Δ-complex: x_i − x_i = 0 contributes nothing
-    const int lo = std::min(i, j), hi = std::max(i, j);
-    weight[(static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi)] += 0.5 * m.cot_opposite_of(static_cast<int>(h));
+  // w_ij = ½ Σ cot over the halfedges between i and j (two on a mesh edge, more on a Δ-complex edge after flips).
+  // The halfedges are grouped by their lower endpoint (counting sort), then ordered by the upper one and their own
+  // index, so the edges come out sorted by (i, j) and each weight is summed in halfedge order; L is then written in
+  // compressed columns directly. (A hash map of the vertex pairs and a triplet list did the same at ~3 ms per
+  // operator on 10K vertices, each flow step.)
+  struct Halfedge {
+    int upper, h;
+    bool operator<(const Halfedge& o) const { return upper != o.upper ? upper < o.upper : h < o.h; }
+  };
+  std::vector<int> first(static_cast<size_t>(nv) + 1, 0);
+  const int halfedges = static_cast<int>(m.twin.size());
+  for (int h = 0; h < halfedges; ++h) {
+    const int i = m.tail(h), j = m.tail(HalfedgeMesh::next(h));
+    if (i != j) ++first[static_cast<size_t>(std::min(i, j)) + 1];  // a loop edge x_i − x_i contributes nothing
   }
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(4 * weight.size() + static_cast<size_t>(nv));
-  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
-  out.edges.reserve(weight.size());
-  for (const auto& [k, w0] : weight) {
-    double w = w0;
-    const int i = static_cast<int>(k >> 32), j = static_cast<int>(k & 0xffffffffu);
-    if (options.kind == LaplacianKind::IntrinsicDelaunay && w < 0) {
-      ++stats.negative_weights_after;  // only after a flip cap, or rounding on cocircular quads
-      w = 0;
+  for (Eigen::Index v = 0; v < nv; ++v) first[static_cast<size_t>(v) + 1] += first[static_cast<size_t>(v)];
+  std::vector<Halfedge> by_lower(static_cast<size_t>(first.back()));
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (int h = 0; h < halfedges; ++h) {
+      const int i = m.tail(h), j = m.tail(HalfedgeMesh::next(h));
+      if (i != j) by_lower[static_cast<size_t>(fill[static_cast<size_t>(std::min(i, j))]++)] = {std::max(i, j), h};
     }
-    out.edges.push_back({i, j, w});
-    triplets.emplace_back(i, j, -w);
-    triplets.emplace_back(j, i, -w);
-    diag[i] += w;
-    diag[j] += w;
   }
-  for (Eigen::Index i = 0; i < nv; ++i) triplets.emplace_back(static_cast<int>(i), static_cast<int>(i), diag[i]);
-  out.laplacian.resize(nv, nv);
-  out.laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  out.laplacian.makeCompressed();
-  std::sort(out.edges.begin(), out.edges.end(),
-            [](const IntrinsicEdgeWeight& p, const IntrinsicEdgeWeight& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
+  out.edges.reserve(by_lower.size() / 2);
+  for (Eigen::Index lo = 0; lo < nv; ++lo) {
+    const auto begin = by_lower.begin() + first[static_cast<size_t>(lo)], end = by_lower.begin() + first[static_cast<size_t>(lo) + 1];
+    std::sort(begin, end);
+    for (auto it = begin; it != end;) {
+      const int hi = it->upper;
+      double w = 0;
+      for (; it != end && it->upper == hi; ++it) w += 0.5 * m.cot_opposite_of(it->h);
+      if (options.kind == LaplacianKind::IntrinsicDelaunay && w < 0) {
+        ++stats.negative_weights_after;  // only after a flip cap, or rounding on cocircular quads
+        w = 0;
+      }
+      out.edges.push_back({static_cast<int>(lo), hi, w});
+      diag[lo] += w;
+      diag[hi] += w;
+    }
+  }
+  // Column c: rows i < c (edges (i, c), met in increasing i), the diagonal, rows j > c (edges (c, j), increasing j).
+  Eigen::SparseMatrix<double>& l = out.laplacian;
+  l.resize(nv, nv);
+  l.resizeNonZeros(static_cast<Eigen::Index>(2 * out.edges.size()) + nv);
+  int* outer = l.outerIndexPtr();
+  int* inner = l.innerIndexPtr();
+  double* value = l.valuePtr();
+  std::vector<int> next(static_cast<size_t>(nv), 1);  // entries per column (the diagonal), then the write position
+  for (const IntrinsicEdgeWeight& e : out.edges) ++next[static_cast<size_t>(e.i)], ++next[static_cast<size_t>(e.j)];
+  outer[0] = 0;
+  for (Eigen::Index c = 0; c < nv; ++c) {
+    outer[c + 1] = outer[c] + next[static_cast<size_t>(c)];
+    next[static_cast<size_t>(c)] = outer[c];
+  }
+  auto put = [&](int column, int row, double v) {
+    const int p = next[static_cast<size_t>(column)]++;
+    inner[p] = row;
+    value[p] = v;
+  };
+  for (const IntrinsicEdgeWeight& e : out.edges) put(e.j, e.i, -e.weight);
+  for (Eigen::Index c = 0; c < nv; ++c) put(static_cast<int>(c), static_cast<int>(c), diag[c]);
+  for (const IntrinsicEdgeWeight& e : out.edges) put(e.i, e.j, -e.weight);
   return out;
 }
 

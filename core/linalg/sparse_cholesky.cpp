@@ -142,7 +142,13 @@ SparseCholeskyT<Scalar>::SparseCholeskyT(CholeskyOptions options) : options_(std
                                : options_.cholmod_mode == CholmodMode::Simplicial ? CHOLMOD_SIMPLICIAL
                                                                                   : CHOLMOD_AUTO;
     impl_->common.final_ll = 1;  // simplicial path: keep LLᵀ (as supernodal), so failures mean "not definite"
-    if (!options_.permutation.empty()) {
+    if (options_.prepermuted) {
+      if (!options_.permutation.empty())
+        throw std::invalid_argument("SparseCholesky: a prepermuted matrix takes no further permutation");
+      impl_->common.nmethods = 1;
+      impl_->common.method[0].ordering = CHOLMOD_NATURAL;
+      impl_->common.postorder = 0;  // a postorder would make CHOLMOD permute the matrix again
+    } else if (!options_.permutation.empty()) {
       impl_->common.nmethods = 1;
       impl_->common.method[0].ordering = CHOLMOD_GIVEN;
       impl_->common.postorder = 1;

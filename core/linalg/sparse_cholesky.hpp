@@ -35,6 +35,12 @@ struct CholeskyOptions {
   // Fill-reducing ordering given by the caller (CHOLMOD only; empty: CHOLMOD's default AMD/METIS choice). Used to
   // expand a METIS ordering of the V×V vertex graph to a blocked 2V/4V matrix without re-ordering the big graph.
   std::vector<int> permutation;
+  // The caller stores the matrix already permuted by its fill-reducing, postordered ordering (e.g. the METIS
+  // ordering of metis_ordering(), which is postordered, expanded to blocks): CHOLMOD analyses and factors it in its
+  // natural ordering. A supernodal factorisation then reads the stored lower triangle as it is; with a given
+  // ordering it builds two permuted transposed copies of the matrix on every factorize() (cholmod_factorize.c).
+  // Excludes `permutation`.
+  bool prepermuted = false;
 };
 
 // METIS nested-dissection ordering of a symmetric pattern (lower triangle read), through CHOLMOD; empty on failure.

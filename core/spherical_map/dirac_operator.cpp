@@ -1,6 +1,8 @@
 #include "core/spherical_map/dirac_operator.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <utility>
 
 #include "core/geometry/face_geometry.hpp"
 #include "core/spherical_map/quaternion.hpp"
@@ -31,20 +33,25 @@ inline void add_block(Complex* b, int stride, const Quaternion& q) {
 }  // namespace
 
 template <class Scalar>
-DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_pattern) {
+DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_pattern, const std::vector<int>& order) {
   constexpr int B = DiracPatternT<Scalar>::kBlock;
   const Eigen::SparseMatrix<double>& p = vertex_pattern.pattern;
   const int n = static_cast<int>(p.rows());
-  // Vertex column j keeps rows i >= j (row indices are sorted, so they are a tail of the column).
-  std::vector<int> first_lower(static_cast<size_t>(n));
+  if (!order.empty() && order.size() != static_cast<size_t>(n))
+    throw std::invalid_argument("build_dirac_pattern: the order must list every vertex once");
+  std::vector<int> position(static_cast<size_t>(n));  // block position of each vertex
+  for (int k = 0; k < n; ++k) position[static_cast<size_t>(order.empty() ? k : order[static_cast<size_t>(k)])] = k;
+  // Block column k (vertex j = order[k]) keeps the entries (i, j) with position[i] >= k, rows by position.
+  std::vector<long> lower_count(static_cast<size_t>(n), 0);
   long lower_nnz = 0;
   for (int j = 0; j < n; ++j) {
-    const int* begin = p.innerIndexPtr() + p.outerIndexPtr()[j];
-    const int* end = p.innerIndexPtr() + p.outerIndexPtr()[j + 1];
-    first_lower[static_cast<size_t>(j)] = static_cast<int>(std::lower_bound(begin, end, j) - p.innerIndexPtr());
-    lower_nnz += p.outerIndexPtr()[j + 1] - first_lower[static_cast<size_t>(j)];
+    for (int q = p.outerIndexPtr()[j]; q < p.outerIndexPtr()[j + 1]; ++q)
+      if (position[static_cast<size_t>(p.innerIndexPtr()[q])] >= position[static_cast<size_t>(j)])
+        ++lower_count[static_cast<size_t>(j)];
+    lower_nnz += lower_count[static_cast<size_t>(j)];
   }
   DiracPatternT<Scalar> out;
+  out.order = order;
   Eigen::SparseMatrix<Scalar>& m = out.matrix;
   m.resize(B * n, B * n);
   m.reserve(B * B * lower_nnz);
@@ -53,21 +60,27 @@ DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_
   out.block_stride.assign(static_cast<size_t>(p.nonZeros()), 0);
   int* outer = m.outerIndexPtr();
   int* inner = m.innerIndexPtr();
-  long offset = 0;  // value index of the first block of vertex column j
-  for (int j = 0; j < n; ++j) {
-    const int begin = first_lower[static_cast<size_t>(j)], end = p.outerIndexPtr()[j + 1];
-    const int count = end - begin;
+  long offset = 0;  // value index of the first block of block column k
+  std::vector<std::pair<int, int>> rows;  // (block row, vertex-pattern index) of one column
+  for (int k = 0; k < n; ++k) {
+    const int j = order.empty() ? k : order[static_cast<size_t>(k)];
+    rows.clear();
+    for (int q = p.outerIndexPtr()[j]; q < p.outerIndexPtr()[j + 1]; ++q) {
+      const int row = position[static_cast<size_t>(p.innerIndexPtr()[q])];
+      if (row >= k) rows.emplace_back(row, q);
+    }
+    std::sort(rows.begin(), rows.end());
+    const int count = static_cast<int>(rows.size());
     for (int c = 0; c < B; ++c) {
       const int start = static_cast<int>(offset) + c * B * count;
-      outer[B * j + c] = start;
-      for (int q = begin; q < end; ++q) {
-        const int i = p.innerIndexPtr()[q];
-        for (int r = 0; r < B; ++r) inner[start + B * (q - begin) + r] = B * i + r;
-      }
+      outer[B * k + c] = start;
+      for (int t = 0; t < count; ++t)
+        for (int r = 0; r < B; ++r) inner[start + B * t + r] = B * rows[static_cast<size_t>(t)].first + r;
     }
-    for (int q = begin; q < end; ++q) {
-      out.block_base[static_cast<size_t>(q)] = static_cast<int>(offset) + B * (q - begin);
-      out.block_stride[static_cast<size_t>(q)] = B * count;
+    for (int t = 0; t < count; ++t) {
+      const size_t q = static_cast<size_t>(rows[static_cast<size_t>(t)].second);
+      out.block_base[q] = static_cast<int>(offset) + B * t;
+      out.block_stride[q] = B * count;
     }
     offset += static_cast<long>(B) * B * count;
   }
@@ -111,8 +124,8 @@ double assemble_dirac(const geometry::VertexPattern& vertex_pattern, DiracPatter
   return diag / static_cast<double>(nv);
 }
 
-template DiracPatternT<double> build_dirac_pattern<double>(const geometry::VertexPattern&);
-template DiracPatternT<Complex> build_dirac_pattern<Complex>(const geometry::VertexPattern&);
+template DiracPatternT<double> build_dirac_pattern<double>(const geometry::VertexPattern&, const std::vector<int>&);
+template DiracPatternT<Complex> build_dirac_pattern<Complex>(const geometry::VertexPattern&, const std::vector<int>&);
 template double assemble_dirac<double>(const geometry::VertexPattern&, DiracPatternT<double>&, const Eigen::MatrixX3d&,
                                        const Eigen::MatrixX3i&, const Eigen::VectorXd&, const Eigen::VectorXd&);
 template double assemble_dirac<Complex>(const geometry::VertexPattern&, DiracPatternT<Complex>&, const Eigen::MatrixX3d&,
@@ -149,16 +162,24 @@ Eigen::SparseMatrix<Complex> dirac_matrix_complex(const Eigen::MatrixX3d& vertic
   return assembled_full<Complex>(vertices, faces, rho);
 }
 
-Eigen::VectorXd quaternions_from_complex(const Eigen::VectorXcd& v) {
+Eigen::VectorXd quaternions_from_complex(const Eigen::VectorXcd& v, const std::vector<int>& order) {
   const Eigen::Index n = v.size() / 2;
   Eigen::VectorXd q(4 * n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    q[4 * i] = v[2 * i].real();
-    q[4 * i + 1] = v[2 * i].imag();
-    q[4 * i + 2] = v[2 * i + 1].real();
-    q[4 * i + 3] = -v[2 * i + 1].imag();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index i = order.empty() ? k : order[static_cast<size_t>(k)];
+    q[4 * i] = v[2 * k].real();
+    q[4 * i + 1] = v[2 * k].imag();
+    q[4 * i + 2] = v[2 * k + 1].real();
+    q[4 * i + 3] = -v[2 * k + 1].imag();
   }
   return q;
+}
+
+Eigen::VectorXd quaternions_from_permuted(const Eigen::VectorXd& q, const std::vector<int>& order) {
+  if (order.empty()) return q;
+  Eigen::VectorXd out(q.size());
+  for (size_t k = 0; k < order.size(); ++k) out.segment<4>(4 * order[k]) = q.segment<4>(4 * static_cast<Eigen::Index>(k));
+  return out;
 }
 
 Eigen::VectorXcd complex_from_quaternions(const Eigen::VectorXd& q) {

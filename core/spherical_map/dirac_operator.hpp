@@ -29,21 +29,30 @@ namespace wish::spherical {
 //    [[z₁, −z̄₂], [z₂, z̄₁]] on (w₁, w₂). Half the dimension, ~2× fewer flops in the Cholesky factorisation.
 // Both are assembled into a fixed pattern: entry (b·i+r, b·j+c) of the expanded matrix (block size b = 4 or 2)
 // lives at value index block_base[p] + c·block_stride[p] + r, p = index of (i, j) in the vertex pattern.
+//
+// Optionally the matrix is stored symmetrically permuted, P𝔼Pᵀ with vertex order[k] at block position k (the
+// fill-reducing, postordered ordering of the factorisation): CHOLMOD then factors it in its natural ordering,
+// reading the stored lower triangle as it is, where a given ordering makes it build two permuted transposed copies
+// of the matrix on every numeric factorisation (cholmod_factorize.c; 5 % of a nucleus map's CPU samples). Block
+// position k of a solution vector is then vertex order[k].
 template <class Scalar>
 struct DiracPatternT {
   static constexpr int kBlock = std::is_same_v<Scalar, double> ? 4 : 2;
-  // Lower storage: only blocks (i, j) with i >= j, diagonal blocks whole (their strictly-upper entries are exact but
+  // Lower storage: only blocks (i, j) with i >= j (block positions, with an order), diagonal blocks whole (their strictly-upper entries are exact but
   // never read: CHOLMOD and lower_hermitian_times() read the lower triangle). Half the memory of both triangles,
   // which matters at 160K vertices (spherical-map issue: < 1 GiB). Values are overwritten by assembly.
   Eigen::SparseMatrix<Scalar> matrix;
-  std::vector<int> block_base;    // −1 for a vertex-pattern entry above the diagonal (not stored)
+  std::vector<int> block_base;    // −1 for a vertex-pattern entry above the (permuted) diagonal (not stored)
   std::vector<int> block_stride;
+  std::vector<int> order;         // vertex at each block position; empty: the identity (no permutation)
 };
 using DiracPattern = DiracPatternT<double>;
 using ComplexDiracPattern = DiracPatternT<std::complex<double>>;
 
+// `order`: empty, or a permutation of the vertices (order[k] = vertex at block position k).
 template <class Scalar>
-DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_pattern);
+DiracPatternT<Scalar> build_dirac_pattern(const geometry::VertexPattern& vertex_pattern,
+                                          const std::vector<int>& order = {});
 
 // Assembles 𝔼(ρ) for the current positions into pattern.matrix. `areas` = face areas. Returns mean(diag 𝔼).
 template <class Scalar>
@@ -58,7 +67,9 @@ Eigen::SparseMatrix<std::complex<double>> dirac_matrix_complex(const Eigen::Matr
                                                                const Eigen::MatrixX3i& faces, const Eigen::VectorXd& rho);
 
 // Quaternion field (4V real, (w, x, y, z) per vertex) <-> complex 2V vector (w₁, w₂) per vertex.
-Eigen::VectorXd quaternions_from_complex(const Eigen::VectorXcd& v);
+// With `order` (a pattern's order): the field of vertex order[k] is block k of v.
+Eigen::VectorXd quaternions_from_complex(const Eigen::VectorXcd& v, const std::vector<int>& order = {});
+Eigen::VectorXd quaternions_from_permuted(const Eigen::VectorXd& q, const std::vector<int>& order);
 Eigen::VectorXcd complex_from_quaternions(const Eigen::VectorXd& q);
 
 }  // namespace wish::spherical

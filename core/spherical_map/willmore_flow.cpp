@@ -33,19 +33,24 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 constexpr Eigen::Index kFreeFactorsAboveVertices = 40000;
 
 // The Dirac eigenproblem in either storage (dirac_operator.hpp); the pattern and the symbolic factorisation are
-// built once, with the context's METIS ordering of the vertex graph expanded to the blocks (cheaper than ordering
-// the big graph).
+// built once, with the context's METIS ordering of the vertex graph (postordered) expanded to the blocks (cheaper
+// than ordering the big graph). With CHOLMOD the matrix is assembled already permuted by that ordering and
+// factored in its natural ordering (no permuted copies per factorisation, CholeskyOptions::prepermuted); λ comes
+// back in vertex order.
 class DiracSystem {
  public:
   DiracSystem(const MapContext& context, bool use_complex) : vp_(context.pattern()), complex_(use_complex) {
+    linalg::CholeskyOptions options = context.cholesky_options(linalg::CholmodMode::Supernodal, false);
+    const bool prepermute = options.backend == linalg::CholeskyBackend::Cholmod && !context.ordering().empty();
+    static const std::vector<int> kIdentity;
+    const std::vector<int>& order = prepermute ? context.ordering() : kIdentity;
+    options.prepermuted = prepermute;
     if (complex_) {
-      cplx_ = build_dirac_pattern<std::complex<double>>(vp_);
-      cplx_solver_ = std::make_unique<linalg::ComplexSparseCholesky>(
-          context.cholesky_options(linalg::CholmodMode::Supernodal, true, 2));
+      cplx_ = build_dirac_pattern<std::complex<double>>(vp_, order);
+      cplx_solver_ = std::make_unique<linalg::ComplexSparseCholesky>(options);
     } else {
-      real_ = build_dirac_pattern<double>(vp_);
-      real_solver_ = std::make_unique<linalg::SparseCholesky>(
-          context.cholesky_options(linalg::CholmodMode::Supernodal, true, 4));
+      real_ = build_dirac_pattern<double>(vp_, order);
+      real_solver_ = std::make_unique<linalg::SparseCholesky>(options);
     }
   }
   double assemble(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces, const Eigen::VectorXd& areas,
@@ -56,10 +61,12 @@ class DiracSystem {
   EigenSolveReport solve(double mean_diag, const EigenSolveOptions& options, Eigen::VectorXd& lambda) {
     if (complex_) {
       const EigenSolveReport r = smallest_eigenvector(*cplx_solver_, cplx_.matrix, mean_diag, options, zx_);
-      if (r.ok) lambda = quaternions_from_complex(zx_);
+      if (r.ok) lambda = quaternions_from_complex(zx_, cplx_.order);
       return r;
     }
-    return smallest_eigenvector(*real_solver_, real_.matrix, mean_diag, options, lambda);
+    const EigenSolveReport r = smallest_eigenvector(*real_solver_, real_.matrix, mean_diag, options, rx_);
+    if (r.ok) lambda = quaternions_from_permuted(rx_, real_.order);
+    return r;
   }
   // Frees the numeric factor once λ is known (the symbolic analysis stays for the next step).
   void release_factor() {
@@ -75,6 +82,7 @@ class DiracSystem {
   std::unique_ptr<linalg::SparseCholesky> real_solver_;
   std::unique_ptr<linalg::ComplexSparseCholesky> cplx_solver_;
   Eigen::VectorXcd zx_;
+  Eigen::VectorXd rx_;
 };
 
 // Everything derived from the current positions. The Laplacian, the mass and the areas come from the intrinsic

@@ -6,6 +6,7 @@
 
 #include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
+#include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/geometry/mass_matrix.hpp"
 #include "core/geometry/mean_curvature.hpp"
 #include "core/geometry/roundness.hpp"
@@ -15,6 +16,43 @@
 
 namespace wish::geometry {
 namespace {
+
+TEST(IntrinsicOperator, LaplacianIsTheEdgeListAssembledAndTheEdgesAreSortedAndDistinct) {
+  // A snapped, stretched ellipsoid (needles and obtuse faces, so the Delaunay operator flips): whatever the
+  // assembly, L must be −w_ij off the diagonal for each listed edge, Σ_j w_ij on it, nothing else, with sorted rows.
+  Mesh mesh = testing::make_ellipsoid(1.0, 0.6, 2.0, 3);
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+    mesh.vertices(i, 2) = 0.15 * std::round(mesh.vertices(i, 2) / 0.15);
+  for (const LaplacianKind kind : {LaplacianKind::Mollified, LaplacianKind::IntrinsicDelaunay}) {
+    const IntrinsicOperator op = intrinsic_operator(mesh.vertices, mesh.faces, {kind});
+    if (kind == LaplacianKind::IntrinsicDelaunay) EXPECT_GT(op.stats.flips, 0);
+    const Eigen::Index n = mesh.vertex_count();
+    std::vector<Eigen::Triplet<double>> t;
+    Eigen::VectorXd diag = Eigen::VectorXd::Zero(n);
+    for (std::size_t k = 0; k < op.edges.size(); ++k) {
+      const IntrinsicEdgeWeight& e = op.edges[k];
+      ASSERT_LT(e.i, e.j);
+      if (k > 0) {
+        const IntrinsicEdgeWeight& p = op.edges[k - 1];
+        EXPECT_TRUE(p.i < e.i || (p.i == e.i && p.j < e.j)) << "edges not sorted and distinct at " << k;
+      }
+      t.emplace_back(e.i, e.j, -e.weight);
+      t.emplace_back(e.j, e.i, -e.weight);
+      diag[e.i] += e.weight;
+      diag[e.j] += e.weight;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(static_cast<int>(i), static_cast<int>(i), diag[i]);
+    Eigen::SparseMatrix<double> expected(n, n);
+    expected.setFromTriplets(t.begin(), t.end());
+    ASSERT_TRUE(op.laplacian.isCompressed());
+    EXPECT_EQ(op.laplacian.nonZeros(), expected.nonZeros());
+    EXPECT_LT((op.laplacian - expected).norm(), 1e-13 * expected.norm());
+    for (Eigen::Index c = 0; c < n; ++c)
+      for (int p = op.laplacian.outerIndexPtr()[c] + 1; p < op.laplacian.outerIndexPtr()[c + 1]; ++p)
+        EXPECT_LT(op.laplacian.innerIndexPtr()[p - 1], op.laplacian.innerIndexPtr()[p]);
+    EXPECT_LT((op.laplacian * Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff(), 1e-12 * diag.maxCoeff());
+  }
+}
 
 TEST(CotanLaplacian, ConstantsInKernelSymmetricPsd) {
   const Mesh mesh = testing::make_ellipsoid(1.0, 0.7, 0.5, 3);

@@ -7,6 +7,7 @@
 
 #include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
+#include "core/geometry/vertex_pattern.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 #include "core/mesh/icosphere.hpp"
 #include "core/spherical_map/dirac_operator.hpp"
@@ -93,6 +94,69 @@ TEST_F(DiracTest, SmallestEigenvectorOfIntegrableChangeIsConstant) {
   const EigenSolveReport rc = smallest_eigenvector(csolver, z, mean_diag, EigenSolveOptions{}, zx);
   ASSERT_TRUE(rc.ok) << rc.message;
   EXPECT_LT((quaternions_from_complex(zx) - x).norm(), 1e-6);
+}
+
+// Lower-triangle storage read as Hermitian, both triangles (the convention of the stored Dirac pattern).
+Eigen::SparseMatrix<std::complex<double>> hermitian_from_lower(const Eigen::SparseMatrix<std::complex<double>>& stored) {
+  const Eigen::SparseMatrix<std::complex<double>> lower = stored.triangularView<Eigen::Lower>();
+  const Eigen::SparseMatrix<std::complex<double>> strictly = stored.triangularView<Eigen::StrictlyLower>();
+  return lower + Eigen::SparseMatrix<std::complex<double>>(strictly.adjoint());
+}
+
+TEST_F(DiracTest, PermutedPatternStoresThePermutedMatrixAndItsSolverGivesTheSameLambda) {
+  // build_dirac_pattern with an order stores P𝔼Pᵀ (vertex order[k] at block k); a CHOLMOD solver that takes it as
+  // prepermuted (natural ordering) finds the same smallest eigenvector, back in vertex order, as the unpermuted
+  // matrix with a given ordering.
+  std::mt19937 rng(testing::test_seed());
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (Eigen::Index i = 0; i < rho.size(); ++i) rho[i] = u(rng);
+  const geometry::VertexPattern vp = geometry::build_vertex_pattern(mesh.vertex_count(), mesh.faces);
+  const Eigen::VectorXd areas = geometry::face_areas(mesh.vertices, mesh.faces);
+  const std::vector<int> order = linalg::metis_ordering(vp.pattern);
+  ASSERT_EQ(order.size(), static_cast<size_t>(mesh.vertex_count()));
+  ComplexDiracPattern plain = build_dirac_pattern<std::complex<double>>(vp);
+  ComplexDiracPattern permuted = build_dirac_pattern<std::complex<double>>(vp, order);
+  const double d0 = assemble_dirac(vp, plain, mesh.vertices, mesh.faces, areas, rho);
+  const double d1 = assemble_dirac(vp, permuted, mesh.vertices, mesh.faces, areas, rho);
+  EXPECT_NEAR(d0, d1, 1e-14 * d0);
+  // Only blocks on or below the block diagonal are stored (diagonal blocks whole).
+  for (int c = 0; c < permuted.matrix.outerSize(); ++c)
+    for (Eigen::SparseMatrix<std::complex<double>>::InnerIterator it(permuted.matrix, c); it; ++it)
+      EXPECT_GE(it.row() / 2, c / 2);
+  // P𝔼Pᵀ entry by entry: block k of the permuted matrix is vertex order[k].
+  Eigen::VectorXi block_perm(2 * mesh.vertex_count());  // permuted index -> original index
+  for (size_t k = 0; k < order.size(); ++k)
+    for (int r = 0; r < 2; ++r) block_perm[2 * static_cast<int>(k) + r] = 2 * order[k] + r;
+  const Eigen::MatrixXcd full_plain = Eigen::MatrixXcd(hermitian_from_lower(plain.matrix));
+  const Eigen::MatrixXcd full_permuted = Eigen::MatrixXcd(hermitian_from_lower(permuted.matrix));
+  double worst = 0;
+  for (Eigen::Index a = 0; a < full_permuted.rows(); ++a)
+    for (Eigen::Index b = 0; b < full_permuted.cols(); ++b)
+      worst = std::max(worst, std::abs(full_permuted(a, b) - full_plain(block_perm[a], block_perm[b])));
+  EXPECT_LT(worst, 1e-13 * full_plain.cwiseAbs().maxCoeff());
+
+  linalg::CholeskyOptions given;
+  given.cholmod_mode = linalg::CholmodMode::Supernodal;
+  given.permutation = linalg::expand_ordering(order, 2);
+  linalg::CholeskyOptions natural;
+  natural.cholmod_mode = linalg::CholmodMode::Supernodal;
+  natural.prepermuted = true;
+  linalg::ComplexSparseCholesky given_solver(given), natural_solver(natural);
+  Eigen::VectorXcd x_given, x_natural;
+  const EigenSolveReport r_given = smallest_eigenvector(given_solver, plain.matrix, d0, EigenSolveOptions{}, x_given);
+  const EigenSolveReport r_natural =
+      smallest_eigenvector(natural_solver, permuted.matrix, d1, EigenSolveOptions{}, x_natural);
+  ASSERT_TRUE(r_given.ok) << r_given.message;
+  ASSERT_TRUE(r_natural.ok) << r_natural.message;
+  EXPECT_EQ(given_solver.factor_nonzeros(), natural_solver.factor_nonzeros());  // the same ordering, no other
+  const Eigen::VectorXd lambda_given = quaternions_from_complex(x_given);
+  const Eigen::VectorXd lambda_natural = quaternions_from_complex(x_natural, order);
+  EXPECT_LT((lambda_given - lambda_natural).norm(), 1e-10);
+  EXPECT_LT(std::abs(r_given.rayleigh - r_natural.rayleigh), 1e-12);
+  // The real 4V form unpermutes the same way.
+  Eigen::VectorXd q_permuted(4 * mesh.vertex_count());
+  for (size_t k = 0; k < order.size(); ++k) q_permuted.segment<4>(4 * k) = lambda_given.segment<4>(4 * order[k]);
+  EXPECT_EQ(quaternions_from_permuted(q_permuted, order), lambda_given);
 }
 
 // Positions from a λ field: divergence of transformed edges, pinned Poisson solve.
