@@ -67,6 +67,9 @@ struct MapAttempt {
   int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
   bool clamped_weights = false;      // Added: a linear attempt that used the clamped (Tutte) weights
   bool needle = false;               // Added: an attempt of the chain's needle retry (MapAttemptPlan::needle)
+  // Added: vertices moved by the needle retry's one-ring kernel placement (star_kernel_repair.hpp), part of
+  // quality.repaired_vertices; 0 when the earlier repairs sufficed or it did not remove every bad face.
+  long kernel_placed_vertices = 0;
 };
 
 namespace spherical {
