@@ -1,8 +1,9 @@
 #pragma once
 // One attempt of the map chain (map_chain.hpp): run one method, take its surface to the sphere (radial projection
 // about the area-weighted centroid, mirrored first if the flow everted it), Möbius-balance with the input's vertex
-// areas, repair a few bad faces locally (chart_untangle.hpp, then untangle.hpp; bounded by the chain's CPU budget),
-// and verify (map_verification.hpp). A map that fails verification is never Ok.
+// areas, repair a few bad faces locally (chart_untangle.hpp, then untangle.hpp; bounded by the chain's CPU budget)
+// — for the needle retry's maps also the kernel placement, star_kernel_repair.hpp — and verify
+// (map_verification.hpp). A map that fails verification is never Ok.
 
 #include <string>
 #include <vector>

@@ -22,9 +22,11 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   const MapAttemptPlan cmcf_more{MapMethod::Cmcf, false, cmcf_long.max_steps, 0};
   // The needle retry (docs/design/needle-flows.md): Willmore with the needle operator (H and mass from the intrinsic
   // Delaunay operator, Poisson weights clamped to >= 0), then cMCF with a ten times smaller time step. Each runs
-  // only while no Ok map is held (Chain::applies): on decimated, needle-heavy meshes the flows above stall with
-  // hundreds of flips, these get rounder and leave a few that the local repair removes; a mesh that an earlier
-  // attempt maps keeps its map (both variants change most maps, so they replace no earlier attempt).
+  // only while no Ok map is held but the other retry flow's (Chain::applies), or — held back by an earlier flow's
+  // provisional map — after the linear map when that map wins (Chain::run_deferred_needle_retry): on decimated,
+  // needle-heavy meshes the flows above stall with hundreds of flips, these get rounder and leave a few that the
+  // local repair and the kernel placement remove (map_attempt.cpp); a mesh that ends on an earlier flow keeps its
+  // map (both variants change most maps, so they replace no earlier flow's).
   const MapAttemptPlan willmore_needle{MapMethod::Willmore, options.willmore.filtered, n, -1, false, true};
   const MapAttemptPlan cmcf_needle{MapMethod::Cmcf, false, cmcf_long.max_steps, -1, false, true};
   const MapAttemptPlan linear{MapMethod::Linear, false, 1};
