@@ -62,7 +62,9 @@ TEST(SlowNeedleSpines, EveryMapIsBijectiveAndTheNeedleRetryEndsMoreOnAFlowChangi
     // A needle retry's map repaired by the kernel placement says so (its moves are part of the repaired vertices).
     const MapAttempt& chosen = r.attempts[static_cast<size_t>(r.chosen_attempt)];
     EXPECT_LE(chosen.kernel_placed_vertices, chosen.quality.repaired_vertices);
-    if (!chosen.needle) EXPECT_EQ(chosen.kernel_placed_vertices, 0);
+    if (!chosen.needle) {
+      EXPECT_EQ(chosen.kernel_placed_vertices, 0);
+    }
     on_flow += is_flow(r.method_used);
     on_flow_without_retry += is_flow(before.method_used);
     // A map that ended on a flow without the retry is the same map with it (the retry runs only without an Ok map).
