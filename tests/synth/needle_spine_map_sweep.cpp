@@ -67,7 +67,8 @@ TEST(SlowNeedleSpines, EveryMapIsBijectiveAndTheNeedleRetryEndsMoreOnAFlowChangi
     }
     on_flow += is_flow(r.method_used);
     on_flow_without_retry += is_flow(before.method_used);
-    // A map that ended on a flow without the retry is the same map with it (the retry runs only without an Ok map).
+    // A map that ended on a flow without the retry is the same map with it (the retry runs only when the mesh would
+    // otherwise end on a one-shot method).
     if (is_flow(before.method_used) && before.ok()) {
       EXPECT_EQ(r.method_used, before.method_used);
       EXPECT_EQ(r.chosen_attempt, before.chosen_attempt);
