@@ -128,6 +128,7 @@ nlohmann::json map_attempt_json(const MapAttempt& a, bool trace) {
                      {"cpu_seconds", json_number(a.cpu_seconds)},
                      {"repair_cpu_seconds", json_number(a.repair_cpu_seconds)},
                      {"repair_budget_stopped", a.repair_budget_stopped},
+                     {"kernel_placed_vertices", a.kernel_placed_vertices},
                      {"everted", a.everted}};
   if (a.failed_check != MapCheck::None) out["failed_check"] = to_string(a.failed_check);
   out["stop"] = to_string(a.stop);

@@ -1,6 +1,8 @@
 #include "core/spherical_map/map_attempt.hpp"
 
 #include <chrono>
+#include <optional>
+#include <vector>
 
 #include "core/common/stage_profile.hpp"
 #include "core/geometry/face_geometry.hpp"
@@ -10,7 +12,9 @@
 #include "core/spherical_map/cmcf.hpp"
 #include "core/spherical_map/linear_map.hpp"
 #include "core/spherical_map/mobius.hpp"
+#include "core/spherical_map/ordered_one_rings.hpp"
 #include "core/spherical_map/progressive_embedding.hpp"
+#include "core/spherical_map/star_kernel_repair.hpp"
 #include "core/spherical_map/untangle.hpp"
 #include "core/spherical_map/willmore_flow.hpp"
 
@@ -68,9 +72,34 @@ bool project_radially(Eigen::MatrixX3d& surface, const Eigen::MatrixX3i& faces, 
   return everted;
 }
 
+// Rounds of kernel placement and Möbius rebalancing after the first (balance_and_repair).
+constexpr int kKernelRebalanceRounds = 3;
+
+long count_bad_faces(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces,
+                     const MapVerificationThresholds& thresholds) {
+  long bad = 0;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) bad += is_bad_sphere_face(sphere, faces, f, thresholds.degenerate_height);
+  return bad;
+}
+
+// The one-ring kernel placement of the bad faces' vertices (star_kernel_repair.hpp), applied only when it leaves
+// no bad face (else the map stays as it was and fails verification on its flips). Returns the vertices moved.
+long place_in_kernels(const MapContext& context, const SphericalMapOptions& options, const CpuBudget& budget,
+                      Eigen::MatrixX3d& sphere, MapAttempt& attempt) {
+  const std::optional<std::vector<std::vector<int>>> rings = ordered_one_rings(context.faces(), sphere.rows());
+  if (!rings) return 0;
+  Eigen::MatrixX3d placed = sphere;
+  const StarKernelRepairResult kernel = place_in_star_kernels(placed, context.faces(), *rings, options.verification, {}, budget);
+  attempt.repair_budget_stopped = kernel.budget_stopped;
+  if (kernel.bad_faces_after > 0 || kernel.budget_stopped) return 0;
+  sphere.swap(placed);
+  attempt.kernel_placed_vertices += kernel.moved_vertices;
+  return kernel.moved_vertices;
+}
+
 // Möbius balancing and, with options.untangle, the local repair: the foldover-free energy in a chart per cluster
-// first (keeps the map as conformal as it can), the uniform Tutte relaxation for what it leaves. Both stop when
-// the repair budget is spent: what flips remain then fail the verification (never accepted).
+// first (keeps the map as conformal as it can), the uniform Tutte relaxation for what it leaves, and for the needle
+// retry's maps the exact kernel placement for what those leave. All stop when the repair budget is spent: what flips remain then fail the verification (never accepted).
 MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOptions& options,
                                 const CpuBudget& repair_budget, bool balance, Eigen::MatrixX3d& sphere,
                                 MapAttempt& attempt) {
@@ -99,8 +128,23 @@ MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOpt
         const UntangleResult tutte = untangle_sphere_map(sphere, context.faces(), options.verification, {}, repair_budget);
         repaired += tutte.moved_vertices;
         attempt.repair_budget_stopped = tutte.budget_stopped;
+        // The needle retry's maps: what the two repairs above leave, the exact one-ring kernel placement
+        // (star_kernel_repair.hpp; docs/design/needle-flows.md, "Why the local repairs fail next to needles").
+        if (attempt.needle && tutte.bad_faces_after > 0 && !tutte.budget_stopped)
+          repaired += place_in_kernels(context, options, repair_budget, sphere, attempt);
       }
       if (repaired > 0) mobius = rebalance();  // the repair moved the centroid a bit
+      // The flip test is not Möbius-invariant (a face's circumcircle maps to a circle, but its cap may grow past a
+      // hemisphere): the rebalancing can turn a large sliver placed near its kernel's edge back (measured: the 1:5
+      // long-neck needle spine, 14 placements, 1 flip after the rebalancing). Place and rebalance again while that
+      // happens; the last step is a rebalancing, so what it leaves fails verification.
+      for (int again = 0; attempt.kernel_placed_vertices > 0 && again < kKernelRebalanceRounds; ++again) {
+        if (count_bad_faces(sphere, context.faces(), options.verification) == 0) break;
+        const long placed = place_in_kernels(context, options, repair_budget, sphere, attempt);
+        if (placed == 0) break;
+        repaired += placed;
+        mobius = rebalance();
+      }
       attempt.repair_cpu_seconds = CpuBudget::thread_cpu_seconds() - repair0;
     }
   }

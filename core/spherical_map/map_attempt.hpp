@@ -1,8 +1,9 @@
 #pragma once
 // One attempt of the map chain (map_chain.hpp): run one method, take its surface to the sphere (radial projection
 // about the area-weighted centroid, mirrored first if the flow everted it), Möbius-balance with the input's vertex
-// areas, repair a few bad faces locally (chart_untangle.hpp, then untangle.hpp; bounded by the chain's CPU budget),
-// and verify (map_verification.hpp). A map that fails verification is never Ok.
+// areas, repair a few bad faces locally (chart_untangle.hpp, then untangle.hpp; bounded by the chain's CPU budget)
+// — for the needle retry's maps also the kernel placement, star_kernel_repair.hpp — and verify
+// (map_verification.hpp). A map that fails verification is never Ok.
 
 #include <string>
 #include <vector>
@@ -67,6 +68,9 @@ struct MapAttempt {
   int continued_from = -1;           // Added: index of the attempt whose flowed surface this one continued
   bool clamped_weights = false;      // Added: a linear attempt that used the clamped (Tutte) weights
   bool needle = false;               // Added: an attempt of the chain's needle retry (MapAttemptPlan::needle)
+  // Added: vertices moved by the needle retry's one-ring kernel placement (star_kernel_repair.hpp), part of
+  // quality.repaired_vertices; 0 when the earlier repairs sufficed or it did not remove every bad face.
+  long kernel_placed_vertices = 0;
 };
 
 namespace spherical {

@@ -22,9 +22,11 @@ std::vector<MapAttemptPlan> plan_attempts(const SphericalMapOptions& options) {
   const MapAttemptPlan cmcf_more{MapMethod::Cmcf, false, cmcf_long.max_steps, 0};
   // The needle retry (docs/design/needle-flows.md): Willmore with the needle operator (H and mass from the intrinsic
   // Delaunay operator, Poisson weights clamped to >= 0), then cMCF with a ten times smaller time step. Each runs
-  // only while no Ok map is held (Chain::applies): on decimated, needle-heavy meshes the flows above stall with
-  // hundreds of flips, these get rounder and leave a few that the local repair removes; a mesh that an earlier
-  // attempt maps keeps its map (both variants change most maps, so they replace no earlier attempt).
+  // only while no Ok map is held but the other retry flow's (Chain::applies), or — held back by an earlier flow's
+  // provisional map — after the linear map when that map wins (Chain::run_deferred_needle_retry): on decimated,
+  // needle-heavy meshes the flows above stall with hundreds of flips, these get rounder and leave a few that the
+  // local repair and the kernel placement remove (map_attempt.cpp); a mesh that ends on an earlier flow keeps its
+  // map (both variants change most maps, so they replace no earlier flow's).
   const MapAttemptPlan willmore_needle{MapMethod::Willmore, options.willmore.filtered, n, -1, false, true};
   const MapAttemptPlan cmcf_needle{MapMethod::Cmcf, false, cmcf_long.max_steps, -1, false, true};
   const MapAttemptPlan linear{MapMethod::Linear, false, 1};
@@ -136,20 +138,38 @@ class Chain {
 
   ChainOutcome run() {
     for (size_t k = 0; k < plans_.size(); ++k) {
-      const MapAttemptPlan& plan = plans_[k];
       const Eigen::MatrixX3d* start = nullptr;
-      if (!applies(plan, start)) continue;
-      if (skipped(plan)) continue;
-      deadline_.check("spherical map attempt");
-      const FlowControl control{deadline_, budgets_.flow, start};
-      AttemptRun run = run_attempt(context_, plan, options_, control, budgets_.repair(plan.method));
-      flowed_[k] = std::move(run.flowed);
-      if (record(std::move(run))) break;
+      if (!applies(k, start)) continue;
+      if (try_plan(k, start)) break;
     }
+    run_deferred_needle_retry();
     return std::move(outcome_);
   }
 
  private:
+  // Runs plan k (unless the budget skips it); true when the chain ends here.
+  bool try_plan(size_t k, const Eigen::MatrixX3d* start) {
+    const MapAttemptPlan& plan = plans_[k];
+    if (skipped(plan)) return false;
+    deadline_.check("spherical map attempt");
+    const FlowControl control{deadline_, budgets_.flow, start};
+    AttemptRun run = run_attempt(context_, plan, options_, control, budgets_.repair(plan.method));
+    flowed_[k] = std::move(run.flowed);
+    return record(std::move(run));
+  }
+
+  // The needle retry held back by an earlier flow's provisional map (applies) runs once the chain is done, when a
+  // one-shot method's map (linear) beat that flow map: the mesh then ends on a one-shot method with or without the
+  // needle retry, so no map that ends on a flow without it changes (measured: the generated needle spines whose
+  // repaired cMCF map lost to the linear one, docs/design/needle-flows.md). Its maps compete as every other.
+  void run_deferred_needle_retry() {
+    if (deferred_needle_.empty() || !holding_ok() || !is_one_shot(chosen().method)) return;
+    const std::vector<size_t> deferred = std::move(deferred_needle_);
+    deferred_needle_.clear();
+    for (size_t k : deferred)
+      if (try_plan(k, nullptr)) break;
+  }
+
   // An Ok map that ends the search: a needle retry's map with unbounded area distortion does not
   // (kNeedleMaxAreaDistortion).
   static bool answers(const MapAttempt& a) {
@@ -160,7 +180,8 @@ class Chain {
 
   // Attempts that would repeat or cannot apply (silent: they are not part of this mesh's chain). Sets `start` for
   // a continued flow.
-  bool applies(const MapAttemptPlan& plan, const Eigen::MatrixX3d*& start) const {
+  bool applies(size_t k, const Eigen::MatrixX3d*& start) {
+    const MapAttemptPlan& plan = plans_[k];
     if (plan.continue_from >= 0) {
       const MapAttempt& previous = outcome_.attempts[static_cast<size_t>(plan.continue_from)];
       if (!previous.hit_step_cap || previous.status == MapStatus::SolverFailed) return false;
@@ -173,8 +194,15 @@ class Chain {
     // The last resort after other methods: only without an Ok map (a provisional one included), so the maps of
     // meshes that an earlier method maps do not change.
     if (plan.method == MapMethod::Progressive && options_.method != MapMethod::Progressive && holding_ok()) return false;
-    // The needle retry likewise: only when the attempts before it gave no Ok map.
-    if (plan.needle && holding_ok()) return false;
+    // The needle retry likewise: only when the attempts before it gave no Ok map, or only the other needle attempt's
+    // provisional one (a held needle map is provisional, else the chain would have ended: the two retry flows leave
+    // different maps on the same mesh, and the less distorted one is kept). Held back while an earlier flow's
+    // provisional map is held: it runs after the linear map if that map is then the chosen one
+    // (run_deferred_needle_retry).
+    if (plan.needle && holding_ok() && !chosen().needle) {
+      deferred_needle_.push_back(k);
+      return false;
+    }
     // With prefer_method, an Ok map of the requested method is final against every other method's: only the same
     // method's later attempts (a continued flow) can still replace it.
     if (options_.prefer_method && holding_ok() && plan.method != options_.method && chosen().method == options_.method)
@@ -225,6 +253,7 @@ class Chain {
   const ChainBudgets budgets_;
   const std::vector<MapAttemptPlan> plans_;
   std::vector<Eigen::MatrixX3d> flowed_;
+  std::vector<size_t> deferred_needle_;  // needle retry plans held back by an earlier flow's provisional map
   ChainOutcome outcome_;
 };
 

@@ -3,7 +3,8 @@
 // needle_spine_variants and the catalogue's two needle-heavy mushroom spines): every one gets a verified bijective
 // map; the needle retry and choice (map_chain.cpp) make more of them end on a flow (Willmore or cMCF, not the linear
 // map or the progressive embedding) and change no map that ended on a flow without them. Issue 24 item 3 asks for
-// >= 90 % on a flow (13 of 14): NOT met — measured 7 of 14 (5 without the retry and choice); the floor asserted
+// >= 90 % on a flow (13 of 14): measured 13 of 14 since the retry's kernel placement (star_kernel_repair.hpp) and
+// its deferred run after the linear map (5 without the retry and choice; 7 with them before); the floor asserted
 // here is the measured figure, so a regression shows (docs/design/needle-flows.md). Slow: 14 meshes voxelised,
 // decimated and mapped (about a minute).
 #include <cstdio>
@@ -58,9 +59,16 @@ TEST(SlowNeedleSpines, EveryMapIsBijectiveAndTheNeedleRetryEndsMoreOnAFlowChangi
     EXPECT_EQ(r.quality.flipped_faces, 0);
     EXPECT_EQ(r.quality.degenerate_faces, 0);
     EXPECT_EQ(r.quality.degree, 1);
+    // A needle retry's map repaired by the kernel placement says so (its moves are part of the repaired vertices).
+    const MapAttempt& chosen = r.attempts[static_cast<size_t>(r.chosen_attempt)];
+    EXPECT_LE(chosen.kernel_placed_vertices, chosen.quality.repaired_vertices);
+    if (!chosen.needle) {
+      EXPECT_EQ(chosen.kernel_placed_vertices, 0);
+    }
     on_flow += is_flow(r.method_used);
     on_flow_without_retry += is_flow(before.method_used);
-    // A map that ended on a flow without the retry is the same map with it (the retry runs only without an Ok map).
+    // A map that ended on a flow without the retry is the same map with it (the retry runs only when the mesh would
+    // otherwise end on a one-shot method).
     if (is_flow(before.method_used) && before.ok()) {
       EXPECT_EQ(r.method_used, before.method_used);
       EXPECT_EQ(r.chosen_attempt, before.chosen_attempt);
@@ -69,7 +77,7 @@ TEST(SlowNeedleSpines, EveryMapIsBijectiveAndTheNeedleRetryEndsMoreOnAFlowChangi
   }
   std::printf("[needle spine] ended on a flow: %d of %zu (without the needle retry: %d)\n", on_flow, spines.size(),
               on_flow_without_retry);
-  EXPECT_GE(on_flow, 7);                            // measured 7 (the target, 13, is open)
+  EXPECT_GE(on_flow, 13);                           // measured 13 (the target, >= 90 %)
   EXPECT_GE(on_flow, on_flow_without_retry + 2);     // measured 7 against 5
 }
 
