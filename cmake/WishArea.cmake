@@ -17,6 +17,10 @@ function(wish_add_area area)
   endif()
 endfunction()
 
+# The COST that makes ctest start the slow tests (Slow*, *Sweep; minutes each) first, the other tests keeping 0:
+# without timings of an earlier run (a fresh clone, the CI) ctest -j starts tests in descending COST.
+set(WISH_SLOW_TEST_COST 100)
+
 # Every tests/<area>/*_test.cpp becomes its own GoogleTest executable linked against LINK.
 function(wish_add_gtests area)
   cmake_parse_arguments(ARG "" "" "LINK;LABELS" ${ARGN})
@@ -28,6 +32,13 @@ function(wish_add_gtests area)
     target_link_libraries(${target} PRIVATE ${ARG_LINK} wish_testing GTest::gtest GTest::gtest_main)
     wish_target_warnings(${target})
     wish_speed_up(${target} TEST)
-    gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${area};${ARG_LABELS}")
+    # A program holding a Slow*/…Sweep test starts first (all its tests: COST is per program here), so that the
+    # long tests do not run on alone at the end of a parallel ctest.
+    file(STRINGS ${src} slow_tests REGEX "^TEST(_F|_P)?\\((Slow|[A-Za-z]*Sweep)")
+    set(cost 0)
+    if(slow_tests)
+      set(cost ${WISH_SLOW_TEST_COST})
+    endif()
+    gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${area};${ARG_LABELS}" COST ${cost})
   endforeach()
 endfunction()

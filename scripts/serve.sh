@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds `wish`, and starts the HTTP service on the bundled default model
-# (data/models/default.json — trained on a SYNTHETIC demo set, see data/models/README.md).
+# Installs what is missing, builds the service executable `wish-server` (what `wish serve` runs), and starts the
+# HTTP service on the bundled default model (data/models/default.json — trained on a SYNTHETIC demo set, see
+# data/models/README.md).
 #   PORT=8080 WISH_MODELS=data/models bash scripts/serve.sh [extra `wish serve` flags]
+# Only the service is built: the command line tool's own files (cli/, about a quarter of the compile;
+# docs/benchmarks.md, "Third pass") wait for `cmake --build build/release --target wish`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 port=${PORT:-8080}
@@ -12,7 +15,7 @@ bash scripts/install-deps.sh
 # dependencies), which keeps both cores busy with the few large unity batches (cmake/WishBuildSpeed.cmake).
 generator=(); [[ -f build/release/CMakeCache.txt ]] || generator=(-G Ninja)
 cmake "${generator[@]}" -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build/release -j "$(getconf _NPROCESSORS_ONLN)" --target wish
+cmake --build build/release -j "$(getconf _NPROCESSORS_ONLN)" --target wish-server
 
 example=data/meshes/celegans_cell.obj
 
@@ -24,4 +27,5 @@ Classify a bundled example mesh from another terminal:
   curl -s -F mesh=@${PWD}/${example} http://127.0.0.1:${port}/v1/classify
 
 MSG
-exec build/release/cli/wish serve --models "$models" --port "$port" "$@"
+# What `wish serve` does (cli/cmd_serve.cpp: exec of the wish-server beside it, every argument passed on).
+exec build/release/cli/wish-server --models "$models" --port "$port" "$@"

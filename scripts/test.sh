@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs every test: the Release build with all tests (C++ and Python),
-# the ASan+UBSan build of the C++ tests (the slow data sweeps excluded), the libFuzzer targets for a bounded
-# time each, the linters of the deployment files, the Slurm runner on a single-node Slurm (scripts/test-slurm.sh)
-# and the container image built and run (scripts/test-docker.sh).
+# Installs what is missing, builds, and runs every test: the Release build with all tests (C++ and Python), one
+# clang ASan+UBSan build for both the C++ tests (the slow data sweeps excluded) and the libFuzzer targets (each run
+# for a bounded time), the linters of the deployment files, the Slurm runner on a single-node Slurm
+# (scripts/test-slurm.sh) and the container image built and run (scripts/test-docker.sh).
 # Exit status non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -44,35 +44,34 @@ image_locale=(env -u LC_ALL -u LC_CTYPE -u LC_MESSAGES LANG=C.UTF-8)
 
 touch build/release-build.done   # the background job builds the image now
 
-step "sanitizer build (ASan + UBSan)"
-# -g1: line tables only, all a sanitizer report's stack needs (file:line of every frame); full debug information
-# (-g) made the objects 3-4 times larger and a heavy file's compile a third slower (docs/benchmarks.md).
-cmake -G "$(generator build/asan)" -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DWISH_SANITIZE=ON \
-      -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
-cmake --build build/asan -j "$jobs"
+step "sanitizer build (ASan + UBSan, clang) with the libFuzzer targets"
+# One clang tree for both: the C++ tests under ASan+UBSan and the fuzzers (until session 12 a gcc tree for the tests
+# and a second, clang tree for the fuzzers compiled the libraries twice under the sanitizers; docs/benchmarks.md,
+# "Third pass"). The libraries carry libFuzzer's coverage instrumentation (-fsanitize=fuzzer-no-link: counters only,
+# the test programs do not link libFuzzer). -O1, as libFuzzer's documentation builds its targets; line tables only
+# (-gline-tables-only), all a sanitizer report's stack needs (file:line of every frame); asserts on (Debug).
+CC=clang CXX=clang++ cmake -G "$(generator build/sanitize)" -S . -B build/sanitize -DCMAKE_BUILD_TYPE=Debug \
+      -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" \
+      -DWISH_SANITIZE=ON -DWISH_FUZZ=ON -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
+cmake --build build/sanitize -j "$jobs"
 
 step "libFuzzer targets"
-CC=clang CXX=clang++ cmake -G "$(generator build/fuzz)" -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWISH_FUZZ=ON \
-      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-      -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
-      -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF -DWISH_BUILD_TESTS=ON >/dev/null
-cmake --build build/fuzz -j "$jobs" --target wish_fuzzers
 # A fuzzer runs on one core: $jobs of them at a time, each for the same bounded time; their reports in turn.
 fuzz_one() {
   local fuzzer=$1 name; name=$(basename "$fuzzer")
-  local corpus="build/fuzz/corpus/$name"; mkdir -p "$corpus"
+  local corpus="build/sanitize/corpus/$name"; mkdir -p "$corpus"
   "$fuzzer" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=0 \
-            "$corpus" "tests/fuzz/corpus/${name#fuzz_}" >"build/fuzz/$name.log" 2>&1
+            "$corpus" "tests/fuzz/corpus/${name#fuzz_}" >"build/sanitize/$name.log" 2>&1
 }
-fuzzers=(); for fuzzer in build/fuzz/tests/fuzz/fuzz_*; do [[ -x "$fuzzer" ]] && fuzzers+=("$fuzzer"); done
+fuzzers=(); for fuzzer in build/sanitize/tests/fuzz/fuzz_*; do [[ -x "$fuzzer" ]] && fuzzers+=("$fuzzer"); done
 for ((i = 0; i < ${#fuzzers[@]}; i += jobs)); do
   pids=()
   for fuzzer in "${fuzzers[@]:i:jobs}"; do fuzz_one "$fuzzer" & pids+=("$!:$fuzzer"); done
   for entry in "${pids[@]}"; do
     pid=${entry%%:*} name=$(basename "${entry#*:}")
     status=0; wait "$pid" || status=$?
-    echo "-- $name for ${fuzz_seconds}s"; tail -n 3 "build/fuzz/$name.log"
-    if ((status)); then echo "fuzzer $name failed (exit $status): build/fuzz/$name.log" >&2; exit 1; fi
+    echo "-- $name for ${fuzz_seconds}s"; tail -n 3 "build/sanitize/$name.log"
+    if ((status)); then echo "fuzzer $name failed (exit $status): build/sanitize/$name.log" >&2; exit 1; fi
   done
 done
 
@@ -81,7 +80,7 @@ bash scripts/lint-deploy.sh
 
 step "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "slow|python" -E "Sweep|Slow" --timeout 900
+  ctest --test-dir build/sanitize --output-on-failure -j "$jobs" -LE "slow|python" -E "Sweep|Slow" --timeout 900
 
 step "Slurm batch runner on a single-node Slurm (scripts/test-slurm.sh)"
 WISH_BIN="$root/build/release/cli/wish" bash scripts/test-slurm.sh

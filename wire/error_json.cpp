@@ -6,8 +6,10 @@ namespace wish::wire {
 
 nlohmann::json details_json(const ErrorDetails& details) {
   nlohmann::json out = nlohmann::json::object();
-  for (const auto& [key, value] : details)
-    std::visit([&](const auto& v) { out[key] = v; }, value);
+  // The pair, not a structured binding, is captured: clang 14 (Debian 12; the sanitizer build) does not yet let a
+  // lambda capture a structured binding (C++20, P1091).
+  for (const auto& entry : details)
+    std::visit([&](const auto& v) { out[entry.first] = v; }, entry.second);
   return out;
 }
 

@@ -30,11 +30,33 @@ RegionSeen two_thread_region() {
   return seen;
 }
 
+// The same region as GCC's code and CHOLMOD's (built by GCC) enter it: a call of libgomp's entry point
+// GOMP_parallel(body, data, num_threads, flags), the call the scope intercepts. Called directly, so that the test
+// checks the interception also where this file is compiled by clang (the sanitizer build), whose own `omp parallel`
+// goes to libomp's __kmpc_fork_call instead and never reaches GOMP_parallel.
+extern "C" void GOMP_parallel(void (*body)(void*), void* data, unsigned num_threads, unsigned flags);
+
+void record_region(void* data) {
+  RegionSeen& seen = *static_cast<RegionSeen*>(data);
+#pragma omp critical
+  {
+    ++seen.bodies;
+    seen.level = omp_get_level();
+    seen.team = omp_get_num_threads();
+  }
+}
+
+RegionSeen two_thread_gomp_region() {
+  RegionSeen seen;
+  GOMP_parallel(&record_region, &seen, 2, 0);
+  return seen;
+}
+
 TEST(SerialOpenMp, InsideTheScopeARegionRunsInlineOnce) {
   omp_set_dynamic(0);
   const SerialOpenMpScope scope;
   EXPECT_TRUE(SerialOpenMpScope::active());
-  const RegionSeen seen = two_thread_region();
+  const RegionSeen seen = two_thread_gomp_region();
   EXPECT_EQ(seen.bodies, 1);
   EXPECT_EQ(seen.level, 0);  // no team was made: the body was called directly
   EXPECT_EQ(seen.team, 1);
