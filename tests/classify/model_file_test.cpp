@@ -431,16 +431,10 @@ TEST(ModelFileMigration, FormatVersion3KeepsItsOneSetNoveltyFigure) {
   EXPECT_EQ(nlohmann::json::parse(model.to_json_text())["format_version"], 3);
 }
 
-// A model file of format version 4 (the bundled default model as main 41c0f1d shipped it, committed as a fixture)
-// keeps its Euclidean per-class novelty figure: it loads and computes the scores, p-values, flags and labels that
-// build's `wish predict --descriptors data/models/demo-descriptors.csv --csv` wrote
-// (tests/classify/data/model_format_v4_predictions.csv), and is saved again as format 4.
-TEST(ModelFileMigration, FormatVersion4KeepsItsEuclideanNoveltyFigure) {
-  const ClassifierModel model = ClassifierModel::load(fixture_dir() / "model_format_v4.json");
-  ASSERT_TRUE(model.has_novelty());
-  EXPECT_TRUE(model.novelty_calibration()->per_class);
-  EXPECT_EQ(model.novelty_calibration()->whitening.size(), 0);
-  std::ifstream expected_in(fixture_dir() / "model_format_v4_predictions.csv");
+// Checks that `model` computes, for every row of data/models/demo-descriptors.csv, the label, novelty flag, score
+// and p-value that the build which wrote the fixture printed (`wish predict --csv`, tests/classify/data/<predictions>).
+void expect_fixture_predictions(const ClassifierModel& model, const std::string& predictions) {
+  std::ifstream expected_in(fixture_dir() / predictions);
   std::stringstream expected_text;
   expected_text << expected_in.rdbuf();
   const auto expected = parse_csv(expected_text.str());
@@ -465,6 +459,18 @@ TEST(ModelFileMigration, FormatVersion4KeepsItsEuclideanNoveltyFigure) {
     EXPECT_NEAR(p.novelty->score, std::stod(row[score]), 1e-8 * std::stod(row[score])) << table.samples[i].id;
     EXPECT_NEAR(p.novelty->p_value, std::stod(row[p_value]), 1e-9) << table.samples[i].id;
   }
+}
+
+// A model file of format version 4 (the bundled default model as main 41c0f1d shipped it, committed as a fixture)
+// keeps its Euclidean per-class novelty figure: it loads and computes the scores, p-values, flags and labels that
+// build's `wish predict --descriptors data/models/demo-descriptors.csv --csv` wrote
+// (tests/classify/data/model_format_v4_predictions.csv), and is saved again as format 4.
+TEST(ModelFileMigration, FormatVersion4KeepsItsEuclideanNoveltyFigure) {
+  const ClassifierModel model = ClassifierModel::load(fixture_dir() / "model_format_v4.json");
+  ASSERT_TRUE(model.has_novelty());
+  EXPECT_TRUE(model.novelty_calibration()->per_class);
+  EXPECT_EQ(model.novelty_calibration()->whitening.size(), 0);
+  expect_fixture_predictions(model, "model_format_v4_predictions.csv");
   EXPECT_EQ(nlohmann::json::parse(model.to_json_text())["format_version"], 4);
 }
 
@@ -478,31 +484,7 @@ TEST(ModelFileMigration, FormatVersion5KeepsItsFigure) {
   ASSERT_TRUE(model.has_novelty());
   EXPECT_EQ(model.novelty_calibration()->calibration_folds, 0);
   EXPECT_NE(model.novelty_calibration()->whitening.size(), 0);
-  std::ifstream expected_in(fixture_dir() / "model_format_v5_predictions.csv");
-  std::stringstream expected_text;
-  expected_text << expected_in.rdbuf();
-  const auto expected = parse_csv(expected_text.str());
-  std::ifstream csv_in(testing::project_data_dir() / "models" / "demo-descriptors.csv");
-  std::stringstream text;
-  text << csv_in.rdbuf();
-  const auto table = read_descriptor_table(text.str());
-  ASSERT_EQ(expected.size(), table.samples.size() + 1);
-  auto column = [&](const std::string& name) {
-    const auto c = std::find(expected[0].begin(), expected[0].end(), name) - expected[0].begin();
-    EXPECT_LT(c, static_cast<long>(expected[0].size())) << name;
-    return static_cast<std::size_t>(c);
-  };
-  const std::size_t label = column("label"), novel = column("novel"), score = column("novelty_score"),
-                    p_value = column("novelty_p_value");
-  for (std::size_t i = 0; i < table.samples.size(); ++i) {
-    const auto& row = expected[i + 1];
-    const Prediction p = model.predict(table.samples[i].features);
-    ASSERT_TRUE(p.novelty);
-    EXPECT_EQ(p.label, row[label]) << table.samples[i].id;
-    EXPECT_EQ(p.novelty->novel, row[novel] == "true") << table.samples[i].id;
-    EXPECT_NEAR(p.novelty->score, std::stod(row[score]), 1e-8 * std::stod(row[score])) << table.samples[i].id;
-    EXPECT_NEAR(p.novelty->p_value, std::stod(row[p_value]), 1e-9) << table.samples[i].id;
-  }
+  expect_fixture_predictions(model, "model_format_v5_predictions.csv");
   std::ifstream in(path, std::ios::binary);
   std::stringstream file_text;
   file_text << in.rdbuf();
