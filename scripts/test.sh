@@ -47,11 +47,13 @@ touch build/release-build.done   # the background job builds the image now
 step "sanitizer build (ASan + UBSan, clang) with the libFuzzer targets"
 # One clang tree for both: the C++ tests under ASan+UBSan and the fuzzers (until session 12 a gcc tree for the tests
 # and a second, clang tree for the fuzzers compiled the libraries twice under the sanitizers; docs/benchmarks.md,
-# "Third pass"). The libraries carry libFuzzer's coverage instrumentation (-fsanitize=fuzzer-no-link: counters only,
-# the test programs do not link libFuzzer). -O1, as libFuzzer's documentation builds its targets; line tables only
-# (-gline-tables-only), all a sanitizer report's stack needs (file:line of every frame); asserts on (Debug).
+# "Third pass"). Only the readers and the validation, the libraries the fuzzers exercise, carry libFuzzer's coverage
+# counters (-fsanitize=fuzzer-no-link, tests/fuzz/CMakeLists.txt; CMAKE_CXX_FLAGS empty so that an older tree's cached
+# global flag goes); the test programs do not link libFuzzer. -O1, as libFuzzer's documentation builds its targets;
+# line tables only (-gline-tables-only), all a sanitizer report's stack needs (file:line of every frame); asserts on
+# (Debug).
 CC=clang CXX=clang++ cmake -G "$(generator build/sanitize)" -S . -B build/sanitize -DCMAKE_BUILD_TYPE=Debug \
-      -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" \
+      -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS="" \
       -DWISH_SANITIZE=ON -DWISH_FUZZ=ON -DWISH_BUILD_BENCH=OFF -DWISH_BUILD_APPS=OFF >/dev/null
 cmake --build build/sanitize -j "$jobs"
 
