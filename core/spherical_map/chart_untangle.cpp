@@ -406,9 +406,7 @@ ChartUntangleResult untangle_in_charts(Eigen::MatrixX3d& sphere, const Eigen::Ma
     if (fixed) ++result.clusters_fixed;
   }
   // Whole-map recount (a fixed cluster cannot create bad faces elsewhere: only its faces changed).
-  long after = 0;
-  for (Eigen::Index f = 0; f < nf; ++f) after += is_bad_sphere_face(sphere, faces, f, min_height);
-  result.bad_faces_after = after;
+  result.bad_faces_after = count_bad_sphere_faces(sphere, faces, min_height);
   for (Eigen::Index i = 0; i < nv; ++i)
     if (sphere.row(i) != original.row(i)) ++result.moved_vertices;
   return result;

@@ -75,13 +75,6 @@ bool project_radially(Eigen::MatrixX3d& surface, const Eigen::MatrixX3i& faces, 
 // Rounds of kernel placement and Möbius rebalancing after the first (balance_and_repair).
 constexpr int kKernelRebalanceRounds = 3;
 
-long count_bad_faces(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces,
-                     const MapVerificationThresholds& thresholds) {
-  long bad = 0;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) bad += is_bad_sphere_face(sphere, faces, f, thresholds.degenerate_height);
-  return bad;
-}
-
 // The one-ring kernel placement of the bad faces' vertices (star_kernel_repair.hpp), applied only when it leaves
 // no bad face (else the map stays as it was and fails verification on its flips). Returns the vertices moved.
 long place_in_kernels(const MapContext& context, const SphericalMapOptions& options, const CpuBudget& budget,
@@ -99,7 +92,8 @@ long place_in_kernels(const MapContext& context, const SphericalMapOptions& opti
 
 // Möbius balancing and, with options.untangle, the local repair: the foldover-free energy in a chart per cluster
 // first (keeps the map as conformal as it can), the uniform Tutte relaxation for what it leaves, and for the needle
-// retry's maps the exact kernel placement for what those leave. All stop when the repair budget is spent: what flips remain then fail the verification (never accepted).
+// retry's maps the exact kernel placement for what those leave. All stop when the repair budget is spent: what flips
+// remain then fail the verification (never accepted).
 MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOptions& options,
                                 const CpuBudget& repair_budget, bool balance, Eigen::MatrixX3d& sphere,
                                 MapAttempt& attempt) {
@@ -139,7 +133,7 @@ MobiusResult balance_and_repair(const MapContext& context, const SphericalMapOpt
       // long-neck needle spine, 14 placements, 1 flip after the rebalancing). Place and rebalance again while that
       // happens; the last step is a rebalancing, so what it leaves fails verification.
       for (int again = 0; attempt.kernel_placed_vertices > 0 && again < kKernelRebalanceRounds; ++again) {
-        if (count_bad_faces(sphere, context.faces(), options.verification) == 0) break;
+        if (count_bad_sphere_faces(sphere, context.faces(), options.verification.degenerate_height) == 0) break;
         const long placed = place_in_kernels(context, options, repair_budget, sphere, attempt);
         if (placed == 0) break;
         repaired += placed;

@@ -62,6 +62,12 @@ bool is_bad_sphere_face(const Eigen::MatrixX3d& u, const Eigen::MatrixX3i& faces
   return !(n.norm() >= min_height * longest);
 }
 
+long count_bad_sphere_faces(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces, double min_height) {
+  long bad = 0;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) bad += is_bad_sphere_face(sphere, faces, f, min_height);
+  return bad;
+}
+
 namespace {
 
 // The smallest corner angle of input face f, in degrees.

@@ -85,13 +85,15 @@ struct FaceDistortion {
 FaceDistortion face_distortion(const Eigen::MatrixX3d& input_vertices, const Eigen::MatrixX3i& faces,
                                const Eigen::MatrixX3d& sphere);
 
+// The per-face sphere test of measure_map(), for the repairs (untangle, chart_untangle, star_kernel_repair): face f is
+// flipped (its chord triangle does not face away from the origin, i.e. det(a, b, c) <= 0) or numerically degenerate
+// (height below min_height).
+bool is_bad_sphere_face(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height);
+// The number of faces of the map that fail is_bad_sphere_face.
+long count_bad_sphere_faces(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces, double min_height);
+
 // First failed check in the order non_finite, flipped_faces, degenerate_faces, degree, and — only with
 // strict_conformal_bound — conformal_distortion; MapCheck::None when the map passes.
-// The per-face sphere test of measure_map(), for the repairs (untangle, chart_untangle): face f is flipped (its chord
-// triangle does not face away from the origin, i.e. det(a, b, c) <= 0) or numerically degenerate (height below
-// min_height).
-bool is_bad_sphere_face(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height);
-
 MapCheck failed_map_check(const MapQuality& quality, const MapVerificationThresholds& thresholds);
 
 }  // namespace spherical

@@ -1,7 +1,7 @@
 #pragma once
 // The one-ring of every vertex of a closed manifold triangle mesh, in counter-clockwise order seen from outside
 // (the faces are CCW: face (a, b, c) puts b before c around a). For the repairs that need a vertex's star as a
-// polygon (convex_combination_repair.hpp, star_kernel_repair.hpp).
+// polygon (star_kernel_repair.hpp).
 
 #include <optional>
 #include <vector>

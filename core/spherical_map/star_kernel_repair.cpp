@@ -141,8 +141,7 @@ StarKernelRepairResult place_in_star_kernels(Eigen::MatrixX3d& sphere, const Eig
                                              const StarKernelRepairOptions& options, const CpuBudget& budget) {
   StarKernelRepairResult best;
   if (!sphere.allFinite()) return best;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f)
-    best.bad_faces_before += is_bad_sphere_face(sphere, faces, f, thresholds.degenerate_height);
+  best.bad_faces_before = count_bad_sphere_faces(sphere, faces, thresholds.degenerate_height);
   best.bad_faces_after = best.bad_faces_before;
   if (best.bad_faces_before == 0 ||
       static_cast<double>(best.bad_faces_before) > options.max_bad_fraction * static_cast<double>(faces.rows()))
