@@ -19,9 +19,7 @@ namespace {
 Eigen::MatrixX3d unit_vertices(const Mesh& m) { return m.vertices.rowwise().normalized(); }
 
 long bad_faces(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3i& faces) {
-  long bad = 0;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) bad += is_bad_sphere_face(sphere, faces, f, 1e-14);
-  return bad;
+  return count_bad_sphere_faces(sphere, faces, 1e-14);
 }
 
 TEST(OrderedOneRings, EveryConsecutivePairIsAFaceOfTheVertexInItsOrientation) {
