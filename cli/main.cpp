@@ -8,6 +8,7 @@
 
 #include "cli/command_registry.hpp"
 #include "core/common/errors.hpp"
+#include "core/common/process_heap.hpp"
 #include "core/common/process_signals.hpp"
 #include "core/common/stage_profile.hpp"
 
@@ -29,6 +30,7 @@ const std::vector<Command>& registered_commands() { return registry(); }
 
 int main(int argc, char** argv) {
   using namespace wish::cli;
+  (void)wish::tune_process_heap();  // before the work allocates: huge pages, memory reused (process_heap.hpp)
   wish::profile::enable_stage_profile_from_environment();
   // The table goes to stderr whatever path main() leaves by (a failed map returns early).
   struct PrintProfile {
