@@ -13,6 +13,16 @@ bool set_blas_thread_count(int threads) {
   return true;
 }
 
+bool stop_blas_threads() {
+  // OpenBLAS's own shutdown of its thread server (what it runs at fork and at exit): joins the helper threads.
+  // openblas_set_num_threads and a threaded BLAS call start them again (blas_server.c: goto_set_num_threads,
+  // exec_blas); with one thread set, BLAS calls run on the caller and start none.
+  using Shutdown = int (*)();
+  const auto shutdown = reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+  if (!shutdown) return false;
+  return shutdown() == 0;
+}
+
 void limit_compute_threads_to_one() {
   omp_set_num_threads(1);
   omp_set_dynamic(0);

@@ -12,6 +12,12 @@ namespace wish {
 // such call.
 bool set_blas_thread_count(int threads);
 
+// Stops the BLAS's helper threads (OpenBLAS starts one per core in its library constructor, before main, and each
+// spins in sched_yield for a while before it sleeps: 5 % of a nucleus map's CPU on 2 cores). A later call that
+// sets a thread count (any, 1 included) starts them again: set the count first. Returns false when the loaded BLAS
+// offers no such call (not OpenBLAS).
+bool stop_blas_threads();
+
 // omp_set_num_threads(1) and omp_set_dynamic(0) for the calling thread (OpenMP's nthreads-var is per thread, so
 // call it at the start of each worker) and the BLAS thread count to 1 (process-wide, which a worker pool wants).
 void limit_compute_threads_to_one();

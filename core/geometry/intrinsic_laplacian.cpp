@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -84,41 +85,12 @@ struct HalfedgeMesh {
   double edge_cot_sum(int h) const { return cot_opposite_of(h) + cot_opposite_of(twin[static_cast<size_t>(h)]); }
 };
 
-// Twins from the halfedges grouped by tail vertex (counting sort): the twin of a→b is the halfedge b→a among b's
-// outgoing ones, a scan of b's few. (A hash map of all directed edges did the same at 4 % of a nucleus map's CPU, for
-// every operator of every flow step.) With several a→b halfedges (a non-manifold input) the last one is the twin,
-// as before.
-HalfedgeMesh build(const Eigen::MatrixX3i& faces) {
+// The working copy of an operator: the connectivity (flips rewrite it) and lengths of zero.
+HalfedgeMesh working_mesh(const HalfedgeConnectivity& connectivity) {
   HalfedgeMesh m;
-  const Eigen::Index nf = faces.rows();
-  m.face.resize(static_cast<size_t>(nf));
-  m.twin.assign(static_cast<size_t>(3 * nf), -1);
-  m.length.assign(static_cast<size_t>(3 * nf), 0.0);
-  if (nf == 0) return m;
-  if (faces.minCoeff() < 0) throw InvalidInputError("index_out_of_range", "intrinsic Laplacian: negative face index");
-  const size_t nv = static_cast<size_t>(faces.maxCoeff()) + 1;
-  std::vector<int> first(nv + 1, 0);  // halfedges with tail v: out[first[v] .. first[v + 1])
-  for (Eigen::Index f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      m.face[static_cast<size_t>(f)][static_cast<size_t>(k)] = faces(f, k);
-      ++first[static_cast<size_t>(faces(f, k)) + 1];
-    }
-  for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
-  std::vector<int> out(static_cast<size_t>(3 * nf)), fill(first.begin(), first.end() - 1);
-  for (int h = 0; h < static_cast<int>(3 * nf); ++h) out[static_cast<size_t>(fill[static_cast<size_t>(m.tail(h))]++)] = h;
-  for (int h = 0; h < static_cast<int>(3 * nf); ++h) {
-    const int a = m.tail(h), b = m.tail(HalfedgeMesh::next(h));
-    int twin = -1;
-    for (int q = first[static_cast<size_t>(b)]; q < first[static_cast<size_t>(b) + 1]; ++q) {
-      const int g = out[static_cast<size_t>(q)];
-      if (m.tail(HalfedgeMesh::next(g)) == a) twin = g;  // ascending g: the last match wins
-    }
-    if (twin < 0)
-      throw WishError(ErrorCategory::Unmappable, "not_closed", "intrinsic Laplacian: edge (" + std::to_string(a) + ", " +
-                                                  std::to_string(b) +
-                                                  ") has no opposite halfedge (the mesh must be closed and oriented)");
-    m.twin[static_cast<size_t>(h)] = twin;
-  }
+  m.face = connectivity.corners;
+  m.twin = connectivity.twin;
+  m.length.assign(m.twin.size(), 0.0);
   return m;
 }
 
@@ -179,13 +151,59 @@ bool flip(HalfedgeMesh& m, int h, std::vector<int>& degree) {
 
 }  // namespace
 
+// Twins from the halfedges grouped by tail vertex (counting sort): the twin of a→b is the halfedge b→a among b's
+// outgoing ones, a scan of b's few. (A hash map of all directed edges did the same at 4 % of a nucleus map's CPU, for
+// every operator of every flow step.) With several a→b halfedges (a non-manifold input) the last one is the twin,
+// as before.
+HalfedgeConnectivity halfedge_connectivity(const Eigen::MatrixX3i& faces) {
+  HalfedgeConnectivity c;
+  const Eigen::Index nf = faces.rows();
+  c.corners.resize(static_cast<size_t>(nf));
+  c.twin.assign(static_cast<size_t>(3 * nf), -1);
+  if (nf == 0) return c;
+  if (faces.minCoeff() < 0) throw InvalidInputError("index_out_of_range", "intrinsic Laplacian: negative face index");
+  const auto tail = [&](int h) { return c.corners[static_cast<size_t>(h / 3)][static_cast<size_t>(h % 3)]; };
+  const size_t nv = static_cast<size_t>(faces.maxCoeff()) + 1;
+  std::vector<int> first(nv + 1, 0);  // halfedges with tail v: out[first[v] .. first[v + 1])
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      c.corners[static_cast<size_t>(f)][static_cast<size_t>(k)] = faces(f, k);
+      ++first[static_cast<size_t>(faces(f, k)) + 1];
+    }
+  for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+  std::vector<int> out(static_cast<size_t>(3 * nf)), fill(first.begin(), first.end() - 1);
+  for (int h = 0; h < static_cast<int>(3 * nf); ++h) out[static_cast<size_t>(fill[static_cast<size_t>(tail(h))]++)] = h;
+  for (int h = 0; h < static_cast<int>(3 * nf); ++h) {
+    const int a = tail(h), b = tail(HalfedgeMesh::next(h));
+    int twin = -1;
+    for (int q = first[static_cast<size_t>(b)]; q < first[static_cast<size_t>(b) + 1]; ++q) {
+      const int g = out[static_cast<size_t>(q)];
+      if (tail(HalfedgeMesh::next(g)) == a) twin = g;  // ascending g: the last match wins
+    }
+    if (twin < 0)
+      throw WishError(ErrorCategory::Unmappable, "not_closed", "intrinsic Laplacian: edge (" + std::to_string(a) + ", " +
+                                                  std::to_string(b) +
+                                                  ") has no opposite halfedge (the mesh must be closed and oriented)");
+    c.twin[static_cast<size_t>(h)] = twin;
+  }
+  return c;
+}
+
 IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                      const IntrinsicOptions& options) {
+  return intrinsic_operator(vertices, faces, halfedge_connectivity(faces), options);
+}
+
+IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
+                                     const HalfedgeConnectivity& connectivity, const IntrinsicOptions& options) {
+  if (connectivity.twin.size() != static_cast<size_t>(3 * faces.rows()) ||
+      connectivity.corners.size() != static_cast<size_t>(faces.rows()))
+    throw std::invalid_argument("intrinsic_operator: the halfedge connectivity is not that of these faces");
   IntrinsicOperator out;
   IntrinsicStats& stats = out.stats;
   stats.kind = options.kind;
   const Eigen::Index nv = vertices.rows(), nf = faces.rows();
-  HalfedgeMesh m = build(faces);
+  HalfedgeMesh m = working_mesh(connectivity);
   stats.edges = static_cast<long>(3 * nf / 2);
 
   // 1. Lengths and mollification.

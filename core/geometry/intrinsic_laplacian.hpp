@@ -15,6 +15,7 @@
 // L_ij = −w_ij, L_ii = Σ_j w_ij. The lumped mass is M_i = Σ_{f∋i} A_f / 3 over the intrinsic faces (same total
 // area as the mollified input triangles).
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -69,6 +70,20 @@ struct IntrinsicOperator {
 
 IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
                                      const IntrinsicOptions& options = {});
+
+// The halfedge connectivity the operator starts from (halfedge h = 3f + k runs from corner k to corner k + 1 of face
+// f; twin[h] runs the other way). It depends on the faces only, so a flow that rebuilds the operator of its moving
+// surface every step builds it once (1.6 ms per operator on a 10.8K-vertex nucleus, 2 % of its map). Throws
+// WishError not_closed when an edge has no opposite halfedge, InvalidInputError on a negative index.
+struct HalfedgeConnectivity {
+  std::vector<std::array<int, 3>> corners;  // per face
+  std::vector<int> twin;                    // per halfedge
+};
+HalfedgeConnectivity halfedge_connectivity(const Eigen::MatrixX3i& faces);
+// The same operator from connectivity already built for `faces` (the flips work on a copy: `connectivity` serves
+// every later call). Throws std::invalid_argument when it has not 3 halfedges per face.
+IntrinsicOperator intrinsic_operator(const Eigen::MatrixX3d& vertices, const Eigen::MatrixX3i& faces,
+                                     const HalfedgeConnectivity& connectivity, const IntrinsicOptions& options = {});
 
 // Areas of the mesh's own faces from mollified lengths (step 1 only; no flips): every face > 0. For lumped masses
 // of a moving surface (cMCF's M_t) where a full operator is not needed.

@@ -19,10 +19,11 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 // Willmore energy for the step trace, from the mollified operator (finite on zero-area faces).
 double robust_willmore_energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces,
+                              const geometry::HalfedgeConnectivity& connectivity,
                               const geometry::IntrinsicOptions& laplacian) {
   geometry::IntrinsicOptions o = laplacian;
   if (o.kind == geometry::LaplacianKind::IntrinsicDelaunay) o.kind = geometry::LaplacianKind::Mollified;
-  const geometry::IntrinsicOperator op = geometry::intrinsic_operator(x, faces, o);
+  const geometry::IntrinsicOperator op = geometry::intrinsic_operator(x, faces, connectivity, o);
   return geometry::willmore_energy(geometry::mean_curvature(x, op.laplacian, op.mass, geometry::vertex_normals(x, faces)),
                                    op.mass);
 }
@@ -32,6 +33,7 @@ FlowResult cmcf_flow(const MapContext& context, const CmcfOptions& options, cons
   FlowResult result;
   const Eigen::MatrixX3i& faces = context.faces();
   const geometry::IntrinsicOptions& laplacian = context.laplacian();
+  const geometry::HalfedgeConnectivity connectivity = geometry::halfedge_connectivity(faces);  // once per flow
   linalg::SparseCholesky solver(context.cholesky_options(linalg::CholmodMode::Auto, false));
 
   // L₀: the intrinsic operator of the input normalised to area 4π (mollified, intrinsic Delaunay: nonnegative
@@ -48,7 +50,7 @@ FlowResult cmcf_flow(const MapContext& context, const CmcfOptions& options, cons
     x = *control.start;
     mass = geometry::lumped_mass(faces, geometry::mollified_face_areas(x, faces, laplacian.mollify_delta), x.rows());
   }
-  result.initial_energy = result.energy = robust_willmore_energy(x, faces, laplacian);
+  result.initial_energy = result.energy = robust_willmore_energy(x, faces, connectivity, laplacian);
   result.initial_roundness = result.roundness = geometry::roundness(x, mass);
   result.vertices = x;
   Eigen::SparseMatrix<double> system;
@@ -114,7 +116,7 @@ FlowResult cmcf_flow(const MapContext& context, const CmcfOptions& options, cons
     x = std::move(next);
     mass = geometry::lumped_mass(faces, areas, x.rows());
     rec.roundness = geometry::roundness(x, mass);
-    rec.energy = robust_willmore_energy(x, faces, laplacian);
+    rec.energy = robust_willmore_energy(x, faces, connectivity, laplacian);
     rec.geometry_seconds = seconds_since(t0);
     rec.seconds = seconds_since(t_step);
     result.steps.push_back(rec);

@@ -123,17 +123,18 @@ Eigen::SparseMatrix<double> clamped_edge_laplacian(std::vector<geometry::Intrins
 
 // `laplacian`: the flow's operator (flow_operator()); `curvature`: the intrinsic Delaunay one, used for H, the mass
 // and the roundness with WillmoreOptions::needle_operator (then the Poisson weights are also clamped to >= 0).
-void update_state(const Eigen::MatrixX3i& faces, const geometry::IntrinsicOptions& laplacian,
-                  const geometry::IntrinsicOptions* curvature, SurfaceState& s) {
+void update_state(const Eigen::MatrixX3i& faces, const geometry::HalfedgeConnectivity& connectivity,
+                  const geometry::IntrinsicOptions& laplacian, const geometry::IntrinsicOptions* curvature,
+                  SurfaceState& s) {
   const profile::ScopedStage stage("willmore.surface_state (operator, H, energy)");
-  geometry::IntrinsicOperator op = geometry::intrinsic_operator(s.x, faces, laplacian);
+  geometry::IntrinsicOperator op = geometry::intrinsic_operator(s.x, faces, connectivity, laplacian);
   s.areas = std::move(op.input_face_areas);
   s.edges = std::move(op.edges);
   s.operator_stats = op.stats;
   s.normals = geometry::vertex_normals(s.x, faces);
   if (curvature) {
     s.laplacian = clamped_edge_laplacian(s.edges, s.x.rows());
-    const geometry::IntrinsicOperator delaunay = geometry::intrinsic_operator(s.x, faces, *curvature);
+    const geometry::IntrinsicOperator delaunay = geometry::intrinsic_operator(s.x, faces, connectivity, *curvature);
     s.mass = delaunay.mass;
     s.h = geometry::mean_curvature(s.x, delaunay.laplacian, s.mass, s.normals);
   } else {
@@ -185,7 +186,8 @@ void stop_for_budget(FlowResult& result, const std::string& message) {
 class WillmoreRun {
  public:
   WillmoreRun(const MapContext& context, const WillmoreOptions& options, const FlowControl& control)
-      : context_(context), faces_(context.faces()), options_(options), control_(control),
+      : context_(context), faces_(context.faces()), connectivity_(geometry::halfedge_connectivity(faces_)),
+        options_(options), control_(control),
         laplacian_(flow_operator(context.laplacian())), curvature_operator_(delaunay_operator(context.laplacian())),
         dirac_(context, options.complex_dirac),
         poisson_solver_(context.cholesky_options(linalg::CholmodMode::Auto, true)),
@@ -196,7 +198,7 @@ class WillmoreRun {
   FlowResult run() {
     state_.x = control_.start ? *control_.start : context_.normalised_input();
     if (control_.start) normalise_area_and_centre(state_.x, faces_);
-    update_state(faces_, laplacian_, curvature(), state_);
+    update_state(faces_, connectivity_, laplacian_, curvature(), state_);
     result_.operator_stats = state_.operator_stats;
     result_.initial_energy = result_.energy = state_.energy;
     result_.initial_roundness = result_.roundness = state_.roundness;
@@ -368,7 +370,7 @@ class WillmoreRun {
     next.x = poisson_solver_.solve(omega);
     if (release_factors_) poisson_solver_.release_values();
     normalise_area_and_centre(next.x, faces_);
-    update_state(faces_, laplacian_, curvature(), next);
+    update_state(faces_, connectivity_, laplacian_, curvature(), next);
     return true;
   }
 
@@ -431,6 +433,7 @@ class WillmoreRun {
 
   const MapContext& context_;
   const Eigen::MatrixX3i& faces_;
+  const geometry::HalfedgeConnectivity connectivity_;  // of faces_: built once, every step's operator starts from it
   const WillmoreOptions& options_;
   const FlowControl& control_;
   const geometry::IntrinsicOptions laplacian_, curvature_operator_;

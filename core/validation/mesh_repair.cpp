@@ -203,6 +203,10 @@ std::vector<ValidationIssue> find_issues(const MeshReport& r) {
 PreparedMesh prepare_for_mapping(Mesh mesh, const RepairOptions& options) {
   PreparedMesh out;
   out.input_report = analyze_mesh(mesh);
+  // Every repair that changes the mesh records itself, so while none has, the input's report is the mesh's: a clean
+  // mesh is analysed once, not three times (the analysis sorts every half-edge and hashes every face and position:
+  // 7 ms of a 10.8K-vertex nucleus's 0.03 s preparation each).
+  const auto current_report = [&] { return out.repairs.empty() ? out.input_report : analyze_mesh(mesh); };
   // Repairs renumber vertices, which needs valid indices; a mesh with bad indices is only analysed.
   if (indices_in_range(mesh)) {
     if (options.drop_unreferenced_vertices)
@@ -213,7 +217,7 @@ PreparedMesh prepare_for_mapping(Mesh mesh, const RepairOptions& options) {
       // edge (cow.off, diplodocus.off). Welding is kept only when it does not make the surface non-manifold.
       Mesh welded = mesh;
       if (const auto n = weld_duplicates(welded); n > 0) {
-        const MeshReport before = analyze_mesh(mesh), after = analyze_mesh(welded);
+        const MeshReport before = current_report(), after = analyze_mesh(welded);
         if (after.nonmanifold_edges <= before.nonmanifold_edges && after.nonmanifold_vertices <= before.nonmanifold_vertices) {
           // Welding a twin vertex turns its zero-area faces into faces repeating a vertex; dropping them collapses
           // the zero-length edge. The collapse is kept only when the surface stays closed, manifold, connected
@@ -268,7 +272,7 @@ PreparedMesh prepare_for_mapping(Mesh mesh, const RepairOptions& options) {
       if (const auto n = remove_duplicate_faces(mesh); n > 0)
         out.repairs.push_back({"removed_duplicate_faces", "removed " + plural(n, "face", "faces") + " repeating an earlier face", n});
     if (options.orient_outward) {
-      const MeshReport r = analyze_mesh(mesh);
+      const MeshReport r = current_report();
       // Only a closed, connected, consistently oriented surface has an inside; flipping anything else means nothing.
       if (r.orientation_consistent && r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.components == 1 && r.signed_volume < 0) {
         mesh.faces.col(1).swap(mesh.faces.col(2));
@@ -279,7 +283,7 @@ PreparedMesh prepare_for_mapping(Mesh mesh, const RepairOptions& options) {
       }
     }
   }
-  out.report = analyze_mesh(mesh);
+  out.report = current_report();
   out.issues = find_issues(out.report);
   out.mesh = std::move(mesh);
   return out;

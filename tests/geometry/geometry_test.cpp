@@ -1,9 +1,11 @@
 // Operator identities and curvature facts of docs/design/spherical-map.md §1 / §9.
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
+#include "core/common/errors.hpp"
 #include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
@@ -51,6 +53,49 @@ TEST(IntrinsicOperator, LaplacianIsTheEdgeListAssembledAndTheEdgesAreSortedAndDi
       for (int p = op.laplacian.outerIndexPtr()[c] + 1; p < op.laplacian.outerIndexPtr()[c + 1]; ++p)
         EXPECT_LT(op.laplacian.innerIndexPtr()[p - 1], op.laplacian.innerIndexPtr()[p]);
     EXPECT_LT((op.laplacian * Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff(), 1e-12 * diag.maxCoeff());
+  }
+}
+
+// halfedge_connectivity + intrinsic_operator(…, connectivity, …): one connectivity serves every later operator of
+// the same faces — on a moved surface, after an operator whose flips rewrote its own copy — and each comes out
+// exactly as the operator built from the faces alone.
+TEST(IntrinsicOperator, PrebuiltConnectivityGivesTheSameOperatorEveryTime) {
+  Mesh mesh = testing::make_ellipsoid(1.0, 0.6, 2.0, 3);
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+    mesh.vertices(i, 2) = 0.15 * std::round(mesh.vertices(i, 2) / 0.15);  // needles: the Delaunay operator flips
+  const HalfedgeConnectivity connectivity = halfedge_connectivity(mesh.faces);
+  ASSERT_EQ(connectivity.twin.size(), static_cast<std::size_t>(3 * mesh.face_count()));
+  for (std::size_t h = 0; h < connectivity.twin.size(); ++h)
+    ASSERT_EQ(connectivity.twin[static_cast<std::size_t>(connectivity.twin[h])], static_cast<int>(h));
+  Eigen::MatrixX3d moved = mesh.vertices;
+  moved.col(0) *= 1.7;  // another surface on the same faces
+  for (const Eigen::MatrixX3d* x : {&mesh.vertices, &moved, &mesh.vertices})
+    for (const LaplacianKind kind : {LaplacianKind::IntrinsicDelaunay, LaplacianKind::Mollified}) {
+      const IntrinsicOperator fresh = intrinsic_operator(*x, mesh.faces, {kind});
+      const IntrinsicOperator reused = intrinsic_operator(*x, mesh.faces, connectivity, {kind});
+      if (kind == LaplacianKind::IntrinsicDelaunay && x == &mesh.vertices) {
+        EXPECT_GT(reused.stats.flips, 0);
+      }
+      EXPECT_EQ(reused.stats.flips, fresh.stats.flips);
+      EXPECT_EQ(reused.faces, fresh.faces);
+      ASSERT_EQ(reused.laplacian.nonZeros(), fresh.laplacian.nonZeros());
+      EXPECT_EQ((reused.laplacian - fresh.laplacian).norm(), 0.0);
+      EXPECT_EQ(reused.mass, fresh.mass);
+      EXPECT_EQ(reused.input_face_areas, fresh.input_face_areas);
+      EXPECT_EQ(reused.input_cotangents, fresh.input_cotangents);
+    }
+}
+
+TEST(IntrinsicOperator, ConnectivityOfOtherFacesOrOfAnOpenMeshIsRefused) {
+  const Mesh mesh = testing::make_ellipsoid(1.0, 0.6, 2.0, 2);
+  const Mesh other = testing::make_ellipsoid(1.0, 0.6, 2.0, 1);
+  EXPECT_THROW(intrinsic_operator(mesh.vertices, mesh.faces, halfedge_connectivity(other.faces)), std::invalid_argument);
+  const Eigen::MatrixX3i open = mesh.faces.topRows(mesh.face_count() - 1);
+  try {
+    (void)halfedge_connectivity(open);
+    FAIL() << "an open mesh has an edge without opposite halfedge";
+  } catch (const WishError& e) {
+    EXPECT_EQ(e.code(), "not_closed");
   }
 }
 

@@ -1,6 +1,9 @@
 // analyze_mesh and prepare_for_mapping on small hand-made meshes and on the committed data/meshes.
 #include <gtest/gtest.h>
 
+#include <utility>
+#include <vector>
+
 #include "core/io/mesh_io.hpp"
 #include "core/validation/mesh_report.hpp"
 #include "tests/testing/test_data.hpp"
@@ -239,6 +242,53 @@ TEST(MeshReport, HarmlessDefectsAreRepairedAndReported) {
   EXPECT_EQ(p.mesh.vertex_count(), 4);
   EXPECT_EQ(p.mesh.face_count(), 4);
   EXPECT_TRUE(p.mappable()) << p.issues.front().message;
+}
+
+// Every field of two reports (the optional genus included).
+void expect_same_report(const MeshReport& a, const MeshReport& b) {
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.edges, b.edges);
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_EQ(a.components, b.components);
+  EXPECT_EQ(a.boundary_edges, b.boundary_edges);
+  EXPECT_EQ(a.nonmanifold_edges, b.nonmanifold_edges);
+  EXPECT_EQ(a.nonmanifold_vertices, b.nonmanifold_vertices);
+  EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
+  EXPECT_EQ(a.genus, b.genus);
+  EXPECT_EQ(a.degenerate_faces, b.degenerate_faces);
+  EXPECT_EQ(a.zero_area_faces, b.zero_area_faces);
+  EXPECT_EQ(a.duplicate_faces, b.duplicate_faces);
+  EXPECT_EQ(a.unreferenced_vertices, b.unreferenced_vertices);
+  EXPECT_EQ(a.duplicate_vertices, b.duplicate_vertices);
+  EXPECT_EQ(a.orientation_consistent, b.orientation_consistent);
+  EXPECT_EQ(a.misoriented_edges, b.misoriented_edges);
+  EXPECT_EQ(a.signed_volume, b.signed_volume);
+  EXPECT_EQ(a.area, b.area);
+  EXPECT_EQ(a.bbox_min, b.bbox_min);
+  EXPECT_EQ(a.bbox_max, b.bbox_max);
+}
+
+// prepare_for_mapping reuses the input's analysis while no repair has changed the mesh: whatever it repaired or
+// not, its report is exactly that of a fresh analysis of the mesh it hands on.
+TEST(MeshReport, PreparedReportIsTheAnalysisOfThePreparedMesh) {
+  Mesh inward = testing::make_ellipsoid(2, 1, 1, 2);
+  inward.faces.col(1).swap(inward.faces.col(2));
+  Mesh misoriented = testing::make_ellipsoid(1, 1, 1, 2);
+  misoriented.faces.row(5) = Eigen::RowVector3i(misoriented.faces(5, 0), misoriented.faces(5, 2), misoriented.faces(5, 1));
+  const std::vector<std::pair<const char*, Mesh>> cases = {
+      {"clean tetrahedron", tetrahedron()},
+      {"clean ellipsoid", testing::make_ellipsoid(2, 1, 1, 2)},
+      {"inward (flipped)", inward},
+      {"misoriented face (not repaired)", misoriented},
+      {"harmless defects (repaired)", make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {9, 9, 9}, {0, 0, 0}},
+                                           {{0, 2, 1}, {5, 1, 3}, {5, 3, 2}, {1, 2, 3}, {2, 3, 1}})},
+      {"open triangle", make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}})}};
+  for (const auto& [name, mesh] : cases) {
+    SCOPED_TRACE(name);
+    const PreparedMesh p = prepare_for_mapping(mesh);
+    expect_same_report(p.report, analyze_mesh(p.mesh));
+    if (p.repairs.empty()) expect_same_report(p.report, p.input_report);
+  }
 }
 
 TEST(MeshReport, RequireMappableThrowsFirstIssue) {
