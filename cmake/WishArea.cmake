@@ -21,24 +21,38 @@ endfunction()
 # without timings of an earlier run (a fresh clone, the CI) ctest -j starts tests in descending COST.
 set(WISH_SLOW_TEST_COST 100)
 
-# Every tests/<area>/*_test.cpp becomes its own GoogleTest executable linked against LINK.
+# The tests of an area, tests/<area>/*_test.cpp, linked against LINK, in as few programs as keep the long tests first:
+#   * a file holding a Slow*/…Sweep test is its own program <area>_<file> with COST WISH_SLOW_TEST_COST (COST is per
+#     program here), so that ctest -j starts its long tests first instead of leaving them to run on alone at the end;
+#   * every other file of the area goes into one program <area>_tests, compiled in unity batches like the libraries:
+#     one GoogleTest main, one link and one test discovery per area instead of per file, and the GoogleTest and Eigen
+#     templates the files share instantiated once per batch (issue 28; docs/benchmarks.md, "Compile time").
+# ctest's test names are the GoogleTest names (Suite.Test) and the labels are the area's, whichever program holds a
+# test, so selections by name or label (-R, -E "Sweep|Slow", -L, -LE slow) are unchanged. A file whose file-local
+# names clash with another file of its area sets SKIP_UNITY_BUILD_INCLUSION (tests/CMakeLists.txt); a file with its
+# own COMPILE_DEFINITIONS source property is compiled alone by CMake anyway.
 function(wish_add_gtests area)
   cmake_parse_arguments(ARG "" "" "LINK;LABELS" ${ARGN})
   file(GLOB tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${area}/*_test.cpp)
+  set(area_sources "")
   foreach(src ${tests})
-    get_filename_component(name ${src} NAME_WE)
-    set(target ${area}_${name})
-    add_executable(${target} ${src})
-    target_link_libraries(${target} PRIVATE ${ARG_LINK} wish_testing GTest::gtest GTest::gtest_main)
-    wish_target_warnings(${target})
-    wish_speed_up(${target} TEST)
-    # A program holding a Slow*/…Sweep test starts first (all its tests: COST is per program here), so that the
-    # long tests do not run on alone at the end of a parallel ctest.
     file(STRINGS ${src} slow_tests REGEX "^TEST(_F|_P)?\\((Slow|[A-Za-z]*Sweep)")
-    set(cost 0)
     if(slow_tests)
-      set(cost ${WISH_SLOW_TEST_COST})
+      get_filename_component(name ${src} NAME_WE)
+      _wish_add_gtest_program(${area}_${name} "${src}" ${WISH_SLOW_TEST_COST} "${area};${ARG_LABELS}" ${ARG_LINK})
+    else()
+      list(APPEND area_sources ${src})
     endif()
-    gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${area};${ARG_LABELS}" COST ${cost})
   endforeach()
+  if(area_sources)
+    _wish_add_gtest_program(${area}_tests "${area_sources}" 0 "${area};${ARG_LABELS}" ${ARG_LINK})
+  endif()
+endfunction()
+
+function(_wish_add_gtest_program target sources cost labels)
+  add_executable(${target} ${sources})
+  target_link_libraries(${target} PRIVATE ${ARGN} wish_testing GTest::gtest GTest::gtest_main)
+  wish_target_warnings(${target})
+  wish_speed_up(${target} TEST)
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${labels}" COST ${cost})
 endfunction()
