@@ -17,6 +17,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/common/stage_profile.hpp"
+
 
 namespace wish::spherical {
 namespace {
@@ -525,6 +527,7 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
     // that follow never lower a star's smallest height below the margin or its present value.
     constexpr double kRetryHeight[] = {1, 1, 1, 0.1, 0.03};  // of min_height; 0.03e-12 is 3× degenerate_height
     for (int retry = 0; retry < 5 && !placed; ++retry) {
+      const profile::ScopedStage stage("map.progressive spread for a placement");
       const ProgressiveMesh::Collapse again = mesh.collapse(v, u);
       std::vector<int> ring = {u};
       for (int r = 0; r < std::min(retry, 3) + 2; ++r)
@@ -549,15 +552,25 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
     active.push_back(v);
     if (static_cast<double>(active.size()) >= next_level) {
       control.deadline.check("progressive embedding level");
+      const profile::ScopedStage stage("map.progressive level sweeps");
       relax_all(options.sweeps_per_level);
       next_level = options.level_growth * static_cast<double>(active.size());
       ++out.levels;
     }
   }
-  relax_all(options.final_sweeps);
+  {
+    const profile::ScopedStage stage("map.progressive final sweeps");
+    relax_all(options.final_sweeps);
+  }
   out.stretch = sphere.total_energy(active);
   out.positions = std::move(sphere.positions());
   return out;
+}
+
+// "NAME STRETCH (N spread)" for the attempt's message: each embedding's result and how often its placements needed
+// a neighbourhood spread.
+std::string summary(const char* name, const Embedding& e) {
+  return std::string(name) + " " + std::to_string(e.stretch) + " (" + std::to_string(e.spread_neighbourhoods) + " spread)";
 }
 
 }  // namespace
@@ -624,7 +637,12 @@ FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& 
 
   ProgressiveMesh mesh(context.faces(), nv);
   std::vector<ProgressiveMesh::Collapse> collapses;
-  if (!simplify_to_tetrahedron(mesh, context.mesh().vertices, collapses))
+  bool simplified = false;
+  {
+    const profile::ScopedStage stage("map.progressive simplify");
+    simplified = simplify_to_tetrahedron(mesh, context.mesh().vertices, collapses);
+  }
+  if (!simplified)
     return fail("progressive embedding: no edge passes the link condition at " +
                 std::to_string(nv - static_cast<Eigen::Index>(collapses.size())) + " vertices");
   rec.geometry_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
@@ -634,8 +652,14 @@ FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& 
   // wins on decimated meshes with very uneven faces — spines: ~4 against 1e5–1e7 — where equal sphere area per
   // vertex is far from equal area per surface area).
   const Eigen::MatrixX3d& surface = context.normalised_input();
-  const Embedding uniform = embed(mesh, collapses, surface, options, Relaxation::Uniform, Placement::VertexFirst, control);
-  const Embedding stretch = embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::VertexFirst, control);
+  const Embedding uniform = [&] {
+    const profile::ScopedStage stage("map.progressive embed (uniform)");
+    return embed(mesh, collapses, surface, options, Relaxation::Uniform, Placement::VertexFirst, control);
+  }();
+  const Embedding stretch = [&] {
+    const profile::ScopedStage stage("map.progressive embed (stretch)");
+    return embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::VertexFirst, control);
+  }();
   const bool use_uniform = stretch.failure.size() > 0 || (uniform.failure.empty() && uniform.stretch <= stretch.stretch);
   const Embedding* chosen = use_uniform ? &uniform : &stretch;
   // A long thin part (a coil's middle) can still end compressed far below its area share, or both embeddings
@@ -646,6 +670,7 @@ FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& 
   Embedding paired;
   const double chosen_ratio = chosen->failure.empty() ? smallest_area_ratio(context.faces(), surface, chosen->positions) : 0;
   if (chosen_ratio < options.pair_placement_below_area_ratio) {
+    const profile::ScopedStage stage("map.progressive embed (pair placement)");
     paired = embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::PairFirst, control);
     if (paired.failure.empty() && smallest_area_ratio(context.faces(), surface, paired.positions) > chosen_ratio)
       chosen = &paired;
@@ -658,9 +683,9 @@ FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& 
   result.steps.push_back(rec);
   result.message = "progressive embedding: " + std::to_string(collapses.size()) + " vertex splits, " +
                    (chosen == &paired ? "pair placement, stretch" : use_uniform ? "uniform" : "stretch") +
-                   " spreading (stretch " + std::to_string(chosen->stretch) + "; uniform " +
-                   std::to_string(uniform.stretch) + ", stretch " + std::to_string(stretch.stretch) +
-                   (paired.moves > 0 ? ", pair placement " + std::to_string(paired.stretch) : std::string()) + "), " +
+                   " spreading (stretch " + std::to_string(chosen->stretch) + "; " + summary("uniform", uniform) +
+                   ", " + summary("stretch", stretch) +
+                   (paired.moves > 0 ? ", " + summary("pair placement", paired) : std::string()) + "), " +
                    std::to_string(chosen->levels) + " levels, " + std::to_string(chosen->moves) + " vertex moves, " +
                    std::to_string(chosen->spread_neighbourhoods) + " neighbourhoods spread for a placement";
   result.keep_normalisation = true;
