@@ -497,6 +497,22 @@ double smallest_area_ratio(const Eigen::MatrixX3i& faces, const Eigen::MatrixX3d
   return std::isfinite(smallest) ? smallest : 0;
 }
 
+// Spreads the vertices within `rings` rings of u (a neighbourhood too crowded for a placement): five sweeps, each
+// vertex to the centroid of its own kernel when that opens its thinnest face, then a stretch descent move.
+void spread_neighbourhood(SphereEmbedding& sphere, const ProgressiveMesh& mesh, int u, int rings) {
+  std::vector<int> ring = {u};
+  for (int r = 0; r < rings; ++r)
+    for (int w : std::vector<int>(ring))
+      for (int x : mesh.neighbours(w)) ring.push_back(x);
+  std::sort(ring.begin(), ring.end());
+  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  for (int sweep = 0; sweep < 5; ++sweep)
+    for (int w : ring) {
+      sphere.centre(w);
+      sphere.optimise(w);
+    }
+}
+
 struct Embedding {
   Eigen::MatrixX3d positions;
   double stretch = std::numeric_limits<double>::infinity();  // total stretch energy of the result
@@ -578,17 +594,7 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
       const profile::ScopedStage stage("map.progressive spread for a placement");
       const ProgressiveMesh::Collapse again = mesh.collapse(v, u);
       sphere.star_changed(u);
-      std::vector<int> ring = {u};
-      for (int r = 0; r < std::min(retry, 3) + 2; ++r)
-        for (int w : std::vector<int>(ring))
-          for (int x : mesh.neighbours(w)) ring.push_back(x);
-      std::sort(ring.begin(), ring.end());
-      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-      for (int sweep = 0; sweep < 5; ++sweep)
-        for (int w : ring) {
-          sphere.centre(w);
-          sphere.optimise(w);
-        }
+      spread_neighbourhood(sphere, mesh, u, std::min(retry, 3) + 2);
       ++out.spread_neighbourhoods;
       mesh.split(again);
       sphere.star_changed(v);
