@@ -17,6 +17,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/common/stage_profile.hpp"
+
 
 namespace wish::spherical {
 namespace {
@@ -158,6 +160,14 @@ bool simplify_to_tetrahedron(ProgressiveMesh& mesh, const Eigen::MatrixX3d& x, s
   return true;
 }
 
+// |a − b|, its squares summed as x² + (y² + z²): the order in which Eigen sums a row of a column-major matrix,
+// where the positions were kept when the placements and step bounds below were measured (the maps stay
+// bit-identical; Eigen sums a contiguous 3-vector as (x² + y²) + z²).
+double distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = a - b;
+  return std::sqrt(d.x() * d.x() + (d.y() * d.y() + d.z() * d.z()));
+}
+
 // The sphere positions, the tests every move must pass, and the stretch energy the moves lower.
 //
 // Energy (Praun & Hoppe 2003 §3.2, after Sander, Snyder, Gortler, Hoppe 2001, "Texture mapping progressive
@@ -172,7 +182,8 @@ bool simplify_to_tetrahedron(ProgressiveMesh& mesh, const Eigen::MatrixX3d& x, s
 class SphereEmbedding {
  public:
   SphereEmbedding(const ProgressiveMesh& mesh, const Eigen::MatrixX3d& surface, double min_height)
-      : mesh_(mesh), x_(surface), u_(Eigen::MatrixX3d::Zero(surface.rows(), 3)), min_height_(min_height) {
+      : mesh_(mesh), x_(surface), u_(static_cast<size_t>(surface.rows()), Eigen::Vector3d::Zero()),
+        terms_(static_cast<size_t>(mesh.faces().rows())), min_height_(min_height) {
     // A floor for the surface area of a face: zero-area input faces keep a (weak) barrier.
     double total = 0;
     for (Eigen::Index f = 0; f < mesh.faces().rows(); ++f)
@@ -180,9 +191,21 @@ class SphereEmbedding {
                          .cross(x_.row(mesh.faces()(f, 2)) - x_.row(mesh.faces()(f, 0)))
                          .norm();
     area_floor_ = 1e-6 * total / static_cast<double>(std::max<Eigen::Index>(1, mesh.faces().rows()));
+    for (Eigen::Index f = 0; f < mesh.faces().rows(); ++f) refresh_terms(static_cast<int>(f));
   }
 
-  Eigen::MatrixX3d& positions() { return u_; }
+  const Eigen::Vector3d& position(int v) const { return u_[static_cast<size_t>(v)]; }
+  void set_position(int v, const Eigen::Vector3d& y) { u_[static_cast<size_t>(v)] = y; }
+  // The positions as a V×3 matrix (the map).
+  Eigen::MatrixX3d positions() const {
+    Eigen::MatrixX3d m(static_cast<Eigen::Index>(u_.size()), 3);
+    for (size_t i = 0; i < u_.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = u_[i].transpose();
+    return m;
+  }
+  // After a split or collapse that changed w's faces: their surface terms follow their new corners.
+  void star_changed(int w) {
+    for (int f : mesh_.faces_of(w)) refresh_terms(f);
+  }
 
   // Smallest chord-triangle height of v's faces with v at y; −1 when one of them is not positively oriented.
   double star_score(int v, const Eigen::Vector3d& y) const {
@@ -192,7 +215,10 @@ class SphereEmbedding {
       corners(f, v, y, p);
       const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
       if (!(n.dot(p[0] + p[1] + p[2]) > 0)) return -1;
-      const double longest = std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
+      // One square root for the longest edge (a correctly rounded sqrt is monotone: the same value as the
+      // largest of the three edge lengths).
+      const double longest =
+          std::sqrt(std::max({(p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm()}));
       worst = std::min(worst, n.norm() / longest);
     }
     return worst;
@@ -220,7 +246,7 @@ class SphereEmbedding {
   // then a backtracking line search that takes the first shortened step which lowers the energy (so every accepted
   // position keeps all of v's faces positively oriented with height ≥ min_height). Returns the energy decrease.
   double optimise(int v) {
-    const Eigen::Vector3d x = u_.row(v).transpose();
+    const Eigen::Vector3d x = position(v);
     // The height floor of a move: min_height, or the star's present smallest height if a placement had to go
     // below it (a move may then not make it worse; it lets such a neighbourhood heal).
     const double floor = std::min(min_height_, std::max(0.0, star_score(v, x)));
@@ -229,7 +255,7 @@ class SphereEmbedding {
     double reach = std::numeric_limits<double>::infinity();
     for (int f : mesh_.faces_of(v))
       for (int k = 0; k < 3; ++k)
-        if (mesh_.faces()(f, k) != v) reach = std::min(reach, (u_.row(mesh_.faces()(f, k)).transpose() - x).norm());
+        if (mesh_.faces()(f, k) != v) reach = std::min(reach, distance(position(mesh_.faces()(f, k)), x));
     if (!(reach > 0) || !std::isfinite(reach)) return 0;
     const Eigen::Vector3d helper = std::abs(x.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
     const Eigen::Vector3d e1 = helper.cross(x).normalized(), e2 = x.cross(e1);
@@ -249,7 +275,7 @@ class SphereEmbedding {
       const Eigen::Vector3d y = (x + t * direction).normalized();
       const double e = star_energy(v, y, floor);
       if (e < e0) {
-        u_.row(v) = y.transpose();
+        set_position(v, y);
         return e0 - e;
       }
     }
@@ -267,9 +293,9 @@ class SphereEmbedding {
   // double precision: false, and the caller spreads the neighbourhood and tries again. Then u and v each move to
   // the centroid of their own kernel when that opens their thinnest face, and down the stretch energy.
   bool place(int v, int u, double min_height) {
-    const std::optional<Eigen::Vector3d> y = kernel_centroid(v, u_.row(u).transpose());
+    const std::optional<Eigen::Vector3d> y = kernel_centroid(v, position(u));
     if (!y || !(star_score(v, *y) >= min_height)) return false;
-    u_.row(v) = y->transpose();
+    set_position(v, *y);
     // The kernel is a wedge with its apex at u when v's faces took a thin sector of u's star: u moves to the
     // centroid of its own kernel, then v again, so neither stays at the other's apex.
     for (int round = 0; round < 2; ++round)
@@ -294,7 +320,7 @@ class SphereEmbedding {
   // two stars is kept; false (positions unchanged) when none passes.
   bool place_pair(int v, int u, const Eigen::Vector3d& c, const std::vector<int>& apexes, double min_height) {
     if (apexes.size() != 2) return false;
-    const Eigen::Vector3d a = u_.row(apexes[0]).transpose(), b = u_.row(apexes[1]).transpose();
+    const Eigen::Vector3d a = position(apexes[0]), b = position(apexes[1]);
     const auto tangent = [&](const Eigen::Vector3d& x) { return (x - x.dot(c) * c).normalized(); };
     Eigen::Vector3d w = tangent(a) + tangent(b);
     if (!(w.norm() > 1e-3)) w = c.cross(tangent(a));
@@ -305,17 +331,17 @@ class SphereEmbedding {
       for (int f : mesh_.faces_of(x))
         for (int k = 0; k < 3; ++k) {
           const int y = mesh_.faces()(f, k);
-          if (y != u && y != v) reach = std::min(reach, (u_.row(y).transpose() - c).norm());
+          if (y != u && y != v) reach = std::min(reach, distance(position(y), c));
         }
     if (!(reach > 0) || !std::isfinite(reach)) return false;
-    const Eigen::Vector3d saved_u = u_.row(u).transpose(), saved_v = u_.row(v).transpose();
+    const Eigen::Vector3d saved_u = position(u), saved_v = position(v);
     Eigen::Vector3d best_u = saved_u, best_v = saved_v;
     double best = std::numeric_limits<double>::infinity();
     for (double s = 0.4 * reach; s > 1e-4 * reach; s *= 0.5)
       for (double sign : {1.0, -1.0}) {
         const Eigen::Vector3d pu = (c - sign * s * w).normalized(), pv = (c + sign * s * w).normalized();
-        u_.row(u) = pu.transpose();
-        u_.row(v) = pv.transpose();
+        set_position(u, pu);
+        set_position(v, pv);
         if (!(star_score(u, pu) >= min_height) || !(star_score(v, pv) >= min_height)) continue;
         const double e = star_energy(u, pu, min_height) + star_energy(v, pv, min_height);
         if (e < best) {
@@ -325,12 +351,12 @@ class SphereEmbedding {
         }
       }
     if (!std::isfinite(best)) {
-      u_.row(u) = saved_u.transpose();
-      u_.row(v) = saved_v.transpose();
+      set_position(u, saved_u);
+      set_position(v, saved_v);
       return false;
     }
-    u_.row(u) = best_u.transpose();
-    u_.row(v) = best_v.transpose();
+    set_position(u, best_u);
+    set_position(v, best_v);
     for (int round = 0; round < 2; ++round) {
       optimise(v);
       optimise(u);
@@ -341,10 +367,10 @@ class SphereEmbedding {
   // Moves w to the centroid of its own kernel when that raises the smallest height of its faces (it opens up the
   // thin angles that make a neighbour's kernel thin). True when w moved.
   bool centre(int w) {
-    const Eigen::Vector3d x = u_.row(w).transpose();
+    const Eigen::Vector3d x = position(w);
     const std::optional<Eigen::Vector3d> c = kernel_centroid(w, x);
     if (!c || !(star_score(w, *c) > star_score(w, x))) return false;
-    u_.row(w) = c->transpose();
+    set_position(w, *c);
     return true;
   }
 
@@ -354,7 +380,7 @@ class SphereEmbedding {
     for (int f : mesh_.faces_of(v)) {
       int k = 0;
       while (mesh_.faces()(f, k) != v) ++k;
-      link.emplace_back(u_.row(mesh_.faces()(f, (k + 1) % 3)).transpose(), u_.row(mesh_.faces()(f, (k + 2) % 3)).transpose());
+      link.emplace_back(position(mesh_.faces()(f, (k + 1) % 3)), position(mesh_.faces()(f, (k + 2) % 3)));
     }
     return one_ring_kernel_centroid(c, link);
   }
@@ -363,29 +389,29 @@ class SphereEmbedding {
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
     for (int f : mesh_.faces_of(v))
       for (int k = 0; k < 3; ++k)
-        if (mesh_.faces()(f, k) != v) s += u_.row(mesh_.faces()(f, k)).transpose();
+        if (mesh_.faces()(f, k) != v) s += position(mesh_.faces()(f, k));
     return s.normalized();
   }
   void relax(int v) {
-    const double floor = std::min(min_height_, std::max(0.0, star_score(v, u_.row(v).transpose())));
-    const Eigen::Vector3d x = u_.row(v).transpose(), target = neighbour_average(v);
+    const double floor = std::min(min_height_, std::max(0.0, star_score(v, position(v))));
+    const Eigen::Vector3d x = position(v), target = neighbour_average(v);
     if (!target.allFinite()) return;
     for (double t = 1.0; t >= 0.125; t *= 0.5) {
       const Eigen::Vector3d y = ((1 - t) * x + t * target).normalized();
       if (star_score(v, y) >= floor) {
-        u_.row(v) = y.transpose();
+        set_position(v, y);
         return;
       }
     }
   }
   void balance(const std::vector<int>& active) {
     Eigen::MatrixX3d s(static_cast<Eigen::Index>(active.size()), 3);
-    for (size_t i = 0; i < active.size(); ++i) s.row(static_cast<Eigen::Index>(i)) = u_.row(active[i]);
+    for (size_t i = 0; i < active.size(); ++i) s.row(static_cast<Eigen::Index>(i)) = position(active[i]).transpose();
     mobius_balance(s, Eigen::VectorXd::Ones(s.rows()));
-    const Eigen::MatrixX3d saved = u_;
-    for (size_t i = 0; i < active.size(); ++i) u_.row(active[i]) = s.row(static_cast<Eigen::Index>(i));
+    const std::vector<Eigen::Vector3d> saved = u_;
+    for (size_t i = 0; i < active.size(); ++i) set_position(active[i], s.row(static_cast<Eigen::Index>(i)).transpose());
     for (int v : active)
-      if (!valid(v, u_.row(v).transpose())) {
+      if (!valid(v, position(v))) {
         u_ = saved;
         return;
       }
@@ -402,12 +428,12 @@ class SphereEmbedding {
 
  private:
   void corners(int f, int v, const Eigen::Vector3d& y, Eigen::Vector3d (&p)[3]) const {
-    for (int k = 0; k < 3; ++k) p[k] = mesh_.faces()(f, k) == v ? y : Eigen::Vector3d(u_.row(mesh_.faces()(f, k)));
+    for (int k = 0; k < 3; ++k) p[k] = mesh_.faces()(f, k) == v ? y : position(mesh_.faces()(f, k));
   }
   double face_energy(int f) const {
     const int v = mesh_.faces()(f, 0);
     Eigen::Vector3d p[3];
-    corners(f, v, u_.row(v).transpose(), p);
+    corners(f, v, position(v), p);
     const double twice_area = (p[1] - p[0]).cross(p[2] - p[0]).norm();
     if (!(twice_area > 0)) return std::numeric_limits<double>::infinity();
     return stretch_of(f, p, twice_area);
@@ -416,18 +442,32 @@ class SphereEmbedding {
   // The stretch energy of face f with its sphere corners p (twice_area = |(p1 − p0) × (p2 − p0)| > 0): the
   // surface face's area times Σ_k d_k |X_i − X_j|² / (2 · twice_area²), corner k opposite the edge (i, j).
   double stretch_of(int f, const Eigen::Vector3d (&p)[3], double twice_area) const {
+    const FaceTerms& t = terms_[static_cast<size_t>(f)];
+    const double s = (p[1] - p[0]).dot(p[2] - p[0]) * t.edge2[0] + (p[2] - p[1]).dot(p[0] - p[1]) * t.edge2[1] +
+                     (p[0] - p[2]).dot(p[1] - p[2]) * t.edge2[2];
+    return t.area * s / (2 * twice_area * twice_area);
+  }
+
+  // The surface side of face f's stretch (its area, floored, and the squared length of the edge opposite each
+  // corner), computed once per face and corner set instead of at every energy evaluation.
+  struct FaceTerms {
+    double area = 0;
+    double edge2[3] = {0, 0, 0};
+  };
+  void refresh_terms(int f) {
     const int a = mesh_.faces()(f, 0), b = mesh_.faces()(f, 1), c = mesh_.faces()(f, 2);
     const Eigen::Vector3d xa = x_.row(a).transpose(), xb = x_.row(b).transpose(), xc = x_.row(c).transpose();
-    const double surface_area = std::max(0.5 * (xb - xa).cross(xc - xa).norm(), area_floor_);
-    const double s = (p[1] - p[0]).dot(p[2] - p[0]) * (xb - xc).squaredNorm() +
-                     (p[2] - p[1]).dot(p[0] - p[1]) * (xc - xa).squaredNorm() +
-                     (p[0] - p[2]).dot(p[1] - p[2]) * (xa - xb).squaredNorm();
-    return surface_area * s / (2 * twice_area * twice_area);
+    FaceTerms& t = terms_[static_cast<size_t>(f)];
+    t.area = std::max(0.5 * (xb - xa).cross(xc - xa).norm(), area_floor_);
+    t.edge2[0] = (xb - xc).squaredNorm();
+    t.edge2[1] = (xc - xa).squaredNorm();
+    t.edge2[2] = (xa - xb).squaredNorm();
   }
 
   const ProgressiveMesh& mesh_;
   const Eigen::MatrixX3d& x_;  // the surface (the input normalised to area 4π)
-  Eigen::MatrixX3d u_;
+  std::vector<Eigen::Vector3d> u_;  // the sphere positions (contiguous: the hot loops read a star's corners)
+  std::vector<FaceTerms> terms_;    // per face, for its present corners (star_changed)
   double min_height_;
   double area_floor_ = 0;
 };
@@ -450,10 +490,27 @@ double smallest_area_ratio(const Eigen::MatrixX3i& faces, const Eigen::MatrixX3d
     a[f] = twice_area(sphere);
     s[f] = twice_area(surface);
   }
+  const double a_total = a.sum(), s_total = s.sum();  // once: summed inside the loop they made this O(F²)
   double smallest = std::numeric_limits<double>::infinity();
   for (Eigen::Index f = 0; f < faces.rows(); ++f)
-    if (s[f] > 0) smallest = std::min(smallest, (a[f] / a.sum()) / (s[f] / s.sum()));
+    if (s[f] > 0) smallest = std::min(smallest, (a[f] / a_total) / (s[f] / s_total));
   return std::isfinite(smallest) ? smallest : 0;
+}
+
+// Spreads the vertices within `rings` rings of u (a neighbourhood too crowded for a placement): five sweeps, each
+// vertex to the centroid of its own kernel when that opens its thinnest face, then a stretch descent move.
+void spread_neighbourhood(SphereEmbedding& sphere, const ProgressiveMesh& mesh, int u, int rings) {
+  std::vector<int> ring = {u};
+  for (int r = 0; r < rings; ++r)
+    for (int w : std::vector<int>(ring))
+      for (int x : mesh.neighbours(w)) ring.push_back(x);
+  std::sort(ring.begin(), ring.end());
+  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  for (int sweep = 0; sweep < 5; ++sweep)
+    for (int w : ring) {
+      sphere.centre(w);
+      sphere.optimise(w);
+    }
 }
 
 struct Embedding {
@@ -462,6 +519,7 @@ struct Embedding {
   std::string failure;                                         // empty when every split found a kernel point
   int levels = 0;
   long moves = 0, spread_neighbourhoods = 0;
+  bool gave_up = false;  // the uniform spreading stopped at ProgressiveOptions::uniform_max_spreads
 };
 
 // The base tetrahedron and the splits of `collapses` (in reverse) on `mesh` (at its 4-vertex state, left at the
@@ -478,13 +536,13 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
     if (mesh.vertex_alive(v)) active.push_back(v);
   const double s = 1.0 / std::sqrt(3.0);
   const Eigen::Vector3d corners[4] = {{s, s, s}, {s, -s, -s}, {-s, s, -s}, {-s, -s, s}};
-  for (size_t i = 0; i < active.size(); ++i) sphere.positions().row(active[i]) = corners[i].transpose();
+  for (size_t i = 0; i < active.size(); ++i) sphere.set_position(active[i], corners[i]);
   if (!sphere.valid(active[0], corners[0])) {
-    sphere.positions().row(active[0]) = corners[1].transpose();
-    sphere.positions().row(active[1]) = corners[0].transpose();
+    sphere.set_position(active[0], corners[1]);
+    sphere.set_position(active[1], corners[0]);
   }
   for (int v : active)
-    if (!sphere.valid(v, sphere.positions().row(v).transpose())) {
+    if (!sphere.valid(v, sphere.position(v))) {
       out.failure = "the base tetrahedron does not embed";
       return out;
     }
@@ -509,8 +567,9 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
   for (auto it = collapses.rbegin(); it != collapses.rend(); ++it) {
     const int v = it->removed, u = it->kept;
     // Centroid of u's kernel before the split (place_pair); v in its own kernel (place) when that fails.
-    const std::optional<Eigen::Vector3d> old_kernel = sphere.kernel_centroid(u, sphere.positions().row(u).transpose());
+    const std::optional<Eigen::Vector3d> old_kernel = sphere.kernel_centroid(u, sphere.position(u));
     mesh.split(*it);
+    sphere.star_changed(v);
     std::vector<int> apexes;
     for (int f : it->killed)
       for (int k = 0; k < 3; ++k)
@@ -525,20 +584,20 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
     // that follow never lower a star's smallest height below the margin or its present value.
     constexpr double kRetryHeight[] = {1, 1, 1, 0.1, 0.03};  // of min_height; 0.03e-12 is 3× degenerate_height
     for (int retry = 0; retry < 5 && !placed; ++retry) {
+      if (relaxation == Relaxation::Uniform && options.uniform_max_spreads > 0 &&
+          out.spread_neighbourhoods >= options.uniform_max_spreads) {
+        out.failure = "given up: a placement needed more than " + std::to_string(options.uniform_max_spreads) +
+                      " neighbourhood spreads (a crowded thin part) at " + std::to_string(active.size()) + " vertices";
+        out.gave_up = true;
+        return out;
+      }
+      const profile::ScopedStage stage("map.progressive spread for a placement");
       const ProgressiveMesh::Collapse again = mesh.collapse(v, u);
-      std::vector<int> ring = {u};
-      for (int r = 0; r < std::min(retry, 3) + 2; ++r)
-        for (int w : std::vector<int>(ring))
-          for (int x : mesh.neighbours(w)) ring.push_back(x);
-      std::sort(ring.begin(), ring.end());
-      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-      for (int sweep = 0; sweep < 5; ++sweep)
-        for (int w : ring) {
-          sphere.centre(w);
-          sphere.optimise(w);
-        }
+      sphere.star_changed(u);
+      spread_neighbourhood(sphere, mesh, u, std::min(retry, 3) + 2);
       ++out.spread_neighbourhoods;
       mesh.split(again);
+      sphere.star_changed(v);
       placed = sphere.place(v, u, kRetryHeight[retry] * options.min_height);
     }
     if (!placed) {
@@ -549,15 +608,102 @@ Embedding embed(ProgressiveMesh mesh, const std::vector<ProgressiveMesh::Collaps
     active.push_back(v);
     if (static_cast<double>(active.size()) >= next_level) {
       control.deadline.check("progressive embedding level");
+      const profile::ScopedStage stage("map.progressive level sweeps");
       relax_all(options.sweeps_per_level);
       next_level = options.level_growth * static_cast<double>(active.size());
       ++out.levels;
     }
   }
-  relax_all(options.final_sweeps);
+  {
+    const profile::ScopedStage stage("map.progressive final sweeps");
+    relax_all(options.final_sweeps);
+  }
   out.stretch = sphere.total_energy(active);
-  out.positions = std::move(sphere.positions());
+  out.positions = sphere.positions();
   return out;
+}
+
+// "NAME STRETCH (N spread)" for the attempt's message: each embedding's result and how often its placements needed
+// a neighbourhood spread ("NAME given up (N spread)" at ProgressiveOptions::uniform_max_spreads).
+std::string summary(const char* name, const Embedding& e) {
+  const std::string spreads = " (" + std::to_string(e.spread_neighbourhoods) + " spread)";
+  return std::string(name) + (e.gave_up ? " given up" : " " + std::to_string(e.stretch)) + spreads;
+}
+
+// The embeddings progressive_map runs and the one it keeps.
+struct EmbeddingRun {
+  enum class Kept { Uniform, Stretch, Paired, UniformInFull };
+  Embedding uniform, stretch, paired, uniform_in_full;
+  Kept kept = Kept::Stretch;
+  const Embedding& chosen() const {
+    switch (kept) {
+      case Kept::Uniform: return uniform;
+      case Kept::Paired: return paired;
+      case Kept::UniformInFull: return uniform_in_full;
+      case Kept::Stretch: break;
+    }
+    return stretch;
+  }
+};
+
+// Both spreadings, the one of lower stretch kept (measured: uniform wins on evenly tessellated tubes — coil,
+// dumbbells: area distortion ~2 against ~16 — where the stretch descent's local moves converge slowly; stretch
+// wins on decimated meshes with very uneven faces — spines: ~4 against 1e5–1e7 — where equal sphere area per
+// vertex is far from equal area per surface area). Then, when needed, the pair placement and the uniform spreading
+// without its spread limit (below).
+EmbeddingRun run_embeddings(const ProgressiveMesh& mesh, const std::vector<ProgressiveMesh::Collapse>& collapses,
+                            const MapContext& context, const ProgressiveOptions& options, const FlowControl& control) {
+  using Kept = EmbeddingRun::Kept;
+  const Eigen::MatrixX3d& surface = context.normalised_input();
+  const auto run_one = [&](const char* stage_name, const ProgressiveOptions& o, Relaxation r, Placement p) {
+    const profile::ScopedStage stage(stage_name);
+    return embed(mesh, collapses, surface, o, r, p, control);
+  };
+  EmbeddingRun run;
+  run.uniform = run_one("map.progressive embed (uniform)", options, Relaxation::Uniform, Placement::VertexFirst);
+  run.stretch = run_one("map.progressive embed (stretch)", options, Relaxation::Stretch, Placement::VertexFirst);
+  const bool use_uniform = !run.stretch.failure.empty() ||
+                           (run.uniform.failure.empty() && run.uniform.stretch <= run.stretch.stretch);
+  run.kept = use_uniform ? Kept::Uniform : Kept::Stretch;
+  // A long thin part (a coil's middle) can still end compressed far below its area share, or both embeddings
+  // fail: placing each split's pair in u's old kernel (place_pair) is tried then, with stretch spreading, and kept
+  // when its most compressed face is less compressed (measured on the generated coils: the fine 12-turn coil with
+  // wire 1/20 maps only this way; the fine 6-turn one goes from an area ratio of 1e-23 to 1e-11). It runs only
+  // then, so every embedding that kept its faces above the floor is unchanged.
+  const double ratio =
+      run.chosen().failure.empty() ? smallest_area_ratio(context.faces(), surface, run.chosen().positions) : 0;
+  if (ratio < options.pair_placement_below_area_ratio) {
+    run.paired = run_one("map.progressive embed (pair placement)", options, Relaxation::Stretch, Placement::PairFirst);
+    if (run.paired.failure.empty() && smallest_area_ratio(context.faces(), surface, run.paired.positions) > ratio)
+      run.kept = Kept::Paired;
+  }
+  // The uniform spreading given up (uniform_max_spreads) and nothing else embedded: it runs again without the
+  // limit, so the last resort maps every mesh it mapped before.
+  if (!run.chosen().failure.empty() && run.uniform.gave_up) {
+    ProgressiveOptions unlimited = options;
+    unlimited.uniform_max_spreads = 0;
+    run.uniform_in_full = run_one("map.progressive embed (uniform, no spread limit)", unlimited, Relaxation::Uniform,
+                                  Placement::VertexFirst);
+    if (run.uniform_in_full.failure.empty()) run.kept = Kept::UniformInFull;
+  }
+  return run;
+}
+
+// The attempt's message: which embedding was kept, every embedding's stretch and spreads, the kept one's work.
+std::string describe(const EmbeddingRun& run, size_t splits) {
+  using Kept = EmbeddingRun::Kept;
+  const Embedding& chosen = run.chosen();
+  const char* kept = run.kept == Kept::Paired          ? "pair placement, stretch"
+                     : run.kept == Kept::Stretch       ? "stretch"
+                     : run.kept == Kept::UniformInFull ? "uniform (no spread limit)"
+                                                       : "uniform";
+  std::string tried = summary("uniform", run.uniform) + ", " + summary("stretch", run.stretch);
+  if (run.paired.moves > 0) tried += ", " + summary("pair placement", run.paired);
+  if (run.uniform_in_full.moves > 0) tried += ", " + summary("uniform without spread limit", run.uniform_in_full);
+  return "progressive embedding: " + std::to_string(splits) + " vertex splits, " + kept + " spreading (stretch " +
+         std::to_string(chosen.stretch) + "; " + tried + "), " + std::to_string(chosen.levels) + " levels, " +
+         std::to_string(chosen.moves) + " vertex moves, " + std::to_string(chosen.spread_neighbourhoods) +
+         " neighbourhoods spread for a placement";
 }
 
 }  // namespace
@@ -624,45 +770,24 @@ FlowResult progressive_map(const MapContext& context, const ProgressiveOptions& 
 
   ProgressiveMesh mesh(context.faces(), nv);
   std::vector<ProgressiveMesh::Collapse> collapses;
-  if (!simplify_to_tetrahedron(mesh, context.mesh().vertices, collapses))
+  bool simplified = false;
+  {
+    const profile::ScopedStage stage("map.progressive simplify");
+    simplified = simplify_to_tetrahedron(mesh, context.mesh().vertices, collapses);
+  }
+  if (!simplified)
     return fail("progressive embedding: no edge passes the link condition at " +
                 std::to_string(nv - static_cast<Eigen::Index>(collapses.size())) + " vertices");
   rec.geometry_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
 
-  // Both spreadings, the one of lower stretch kept (measured: uniform wins on evenly tessellated tubes — coil,
-  // dumbbells: area distortion ~2 against ~16 — where the stretch descent's local moves converge slowly; stretch
-  // wins on decimated meshes with very uneven faces — spines: ~4 against 1e5–1e7 — where equal sphere area per
-  // vertex is far from equal area per surface area).
-  const Eigen::MatrixX3d& surface = context.normalised_input();
-  const Embedding uniform = embed(mesh, collapses, surface, options, Relaxation::Uniform, Placement::VertexFirst, control);
-  const Embedding stretch = embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::VertexFirst, control);
-  const bool use_uniform = stretch.failure.size() > 0 || (uniform.failure.empty() && uniform.stretch <= stretch.stretch);
-  const Embedding* chosen = use_uniform ? &uniform : &stretch;
-  // A long thin part (a coil's middle) can still end compressed far below its area share, or both embeddings
-  // fail: placing each split's pair in u's old kernel (place_pair) is tried then, with stretch spreading, and kept
-  // when its most compressed face is less compressed (measured on the generated coils: the fine 12-turn coil with
-  // wire 1/20 maps only this way; the fine 6-turn one goes from an area ratio of 1e-23 to 1e-11). It runs only
-  // then, so every embedding that kept its faces above the floor is unchanged.
-  Embedding paired;
-  const double chosen_ratio = chosen->failure.empty() ? smallest_area_ratio(context.faces(), surface, chosen->positions) : 0;
-  if (chosen_ratio < options.pair_placement_below_area_ratio) {
-    paired = embed(mesh, collapses, surface, options, Relaxation::Stretch, Placement::PairFirst, control);
-    if (paired.failure.empty() && smallest_area_ratio(context.faces(), surface, paired.positions) > chosen_ratio)
-      chosen = &paired;
-  }
-  if (!chosen->failure.empty())
-    return fail("progressive embedding: " + stretch.failure + " (uniform spreading: " + uniform.failure +
-                "; pair placement: " + paired.failure + ")");
-  result.vertices = chosen->positions;
+  const EmbeddingRun run = run_embeddings(mesh, collapses, context, options, control);
+  if (!run.chosen().failure.empty())
+    return fail("progressive embedding: " + run.stretch.failure + " (uniform spreading: " + run.uniform.failure +
+                "; pair placement: " + run.paired.failure + ")");
+  result.vertices = run.chosen().positions;
   rec.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
   result.steps.push_back(rec);
-  result.message = "progressive embedding: " + std::to_string(collapses.size()) + " vertex splits, " +
-                   (chosen == &paired ? "pair placement, stretch" : use_uniform ? "uniform" : "stretch") +
-                   " spreading (stretch " + std::to_string(chosen->stretch) + "; uniform " +
-                   std::to_string(uniform.stretch) + ", stretch " + std::to_string(stretch.stretch) +
-                   (paired.moves > 0 ? ", pair placement " + std::to_string(paired.stretch) : std::string()) + "), " +
-                   std::to_string(chosen->levels) + " levels, " + std::to_string(chosen->moves) + " vertex moves, " +
-                   std::to_string(chosen->spread_neighbourhoods) + " neighbourhoods spread for a placement";
+  result.message = describe(run, collapses.size());
   result.keep_normalisation = true;
   return result;
 }

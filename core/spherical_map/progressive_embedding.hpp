@@ -61,6 +61,13 @@ struct ProgressiveOptions {
   // share (or both embeddings fail), a third embedding places each split's pair in u's old kernel (step 3) and is
   // kept if its most compressed face is less compressed.
   double pair_placement_below_area_ratio = 1e-9;
+  // The uniform spreading is given up when its placements need more than this many neighbourhood spreads (0: no
+  // limit). A spread means a kernel thinner than min_height: the uniform (Tutte-like) spreading compresses a thin
+  // part exponentially, and such an embedding was never the one kept (measured over ../shared/data, the UroCell and
+  // generated shapes, docs/benchmarks.md: every uniform embedding that needed a spread — 1 to 2,446 of them — lost
+  // to the stretch spreading or the pair placement, while its spreads took up to 1.9 CPU s on the fine 6-turn
+  // coil). Should no other embedding succeed, it runs again without the limit.
+  int uniform_max_spreads = 8;
   bool operator==(const ProgressiveOptions&) const = default;
 };
 

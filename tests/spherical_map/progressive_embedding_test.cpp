@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <regex>
 #include <set>
 #include <utility>
 
@@ -61,6 +62,49 @@ Mesh make_dumbbell(double neck) {
   return m;
 }
 
+// A closed tube along a helix (radius 1, pitch 0.8) with nearly equilateral faces, as marching cubes makes a coil
+// (unlike make_coil's bent ellipsoid, whose faces stretch along the tube): `around` vertices per ring, rings spaced
+// by the edge length around and staggered by half a step, a fan cap at each end.
+Mesh tube_coil(double turns, double wire, int around) {
+  const double pitch = 0.8 / (2 * std::numbers::pi), length = 2 * std::numbers::pi * turns * std::sqrt(1 + pitch * pitch);
+  const int rings = static_cast<int>(std::ceil(length / (2 * std::numbers::pi * wire / around)));
+  Mesh m;
+  m.vertices.resize(rings * around + 2, 3);
+  const auto centre = [&](double t) { return Eigen::Vector3d(std::cos(t), std::sin(t), pitch * t); };
+  for (int i = 0; i < rings; ++i) {
+    const double t = 2 * std::numbers::pi * turns * i / (rings - 1);
+    const Eigen::Vector3d tangent = Eigen::Vector3d(-std::sin(t), std::cos(t), pitch).normalized();
+    const Eigen::Vector3d normal(-std::cos(t), -std::sin(t), 0), binormal = tangent.cross(normal);
+    for (int j = 0; j < around; ++j) {
+      const double a = 2 * std::numbers::pi * (j + 0.5 * (i % 2)) / around;
+      m.vertices.row(i * around + j) = (centre(t) + wire * (std::cos(a) * normal + std::sin(a) * binormal)).transpose();
+    }
+  }
+  const int first = rings * around, last = first + 1;
+  m.vertices.row(first) = (centre(0) - 0.5 * wire * Eigen::Vector3d(0, 1, pitch).normalized()).transpose();
+  const double t_end = 2 * std::numbers::pi * turns;
+  m.vertices.row(last) = (centre(t_end) + 0.5 * wire * Eigen::Vector3d(-std::sin(t_end), std::cos(t_end), pitch).normalized()).transpose();
+  std::vector<Eigen::Vector3i> faces;
+  for (int i = 0; i + 1 < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      const int a = i * around + j, b = i * around + (j + 1) % around, c = (i + 1) * around + j,
+                d = (i + 1) * around + (j + 1) % around;
+      if (i % 2 == 0) {
+        faces.emplace_back(a, b, c);
+        faces.emplace_back(b, d, c);
+      } else {
+        faces.emplace_back(a, d, c);
+        faces.emplace_back(a, b, d);
+      }
+    }
+  for (int j = 0; j < around; ++j) {
+    faces.emplace_back(first, (j + 1) % around, j);
+    faces.emplace_back(last, (rings - 1) * around + j, (rings - 1) * around + (j + 1) % around);
+  }
+  m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
+  return m;
+}
 // Random edge flips of an icosphere (kept valid: the new edge must not exist, no vertex below degree 3), so the
 // triangulation has irregular valences, and a small random jitter of the positions.
 Mesh random_retriangulation(unsigned seed, int flips) {
@@ -244,6 +288,50 @@ TEST(ProgressiveEmbedding, EndsTheDefaultChainOnSharedMeshesThatFailEveryOtherMe
     std::printf("[progressive] %-28s ended on %s after %zu attempts, K p99 %.1f, area distortion %.2f\n", name,
                 to_string(r.method_used), r.attempts.size(), r.quality.conformal_p99, r.quality.area_distortion);
   }
+}
+
+// How many neighbourhood spreads an embedding's placements needed, from the attempt's message ("NAME <stretch> (N
+// spread)" or "NAME given up (N spread)"); -1 when the message does not name it.
+int spreads_of(const std::string& message, const std::string& name) {
+  std::smatch m;
+  if (!std::regex_search(message, m, std::regex(name + " [^(]+ \\(([0-9]+) spread\\)"))) return -1;
+  return std::stoi(m[1].str());
+}
+
+// The uniform spreading is given up at ProgressiveOptions::uniform_max_spreads: on a thin tube with even faces it
+// crowds the tube (a kernel thinner than the height margin, again and again) and loses to the stretch spreading,
+// so the map with the limit is the map without it, bit for bit — the limit only saves the spreads (on the fine
+// 6-turn coil: 2,446 of them, ~2 CPU s).
+TEST(ProgressiveEmbedding, GivesUpACrowdedUniformSpreadingWithTheSameMap) {
+  const Mesh tube = tube_coil(2, 0.1, 6);
+  const spherical::MapContext context(tube);
+  const spherical::FlowResult limited = spherical::progressive_map(context, {});
+  ProgressiveOptions no_limit;
+  no_limit.uniform_max_spreads = 0;
+  const spherical::FlowResult full = spherical::progressive_map(context, no_limit);
+  ASSERT_EQ(limited.status, MapStatus::Ok) << limited.message;
+  ASSERT_EQ(full.status, MapStatus::Ok) << full.message;
+  EXPECT_NE(limited.message.find("uniform given up"), std::string::npos) << limited.message;
+  EXPECT_EQ(spreads_of(limited.message, "uniform"), ProgressiveOptions{}.uniform_max_spreads) << limited.message;
+  EXPECT_GT(spreads_of(full.message, "uniform"), ProgressiveOptions{}.uniform_max_spreads) << full.message;
+  EXPECT_EQ(full.message.find("given up"), std::string::npos) << full.message;
+  EXPECT_TRUE(limited.vertices == full.vertices);
+  expect_bijective(spherical::measure_map(tube.vertices, tube.faces, limited.vertices, {}));
+}
+
+// A uniform spreading that needs no spread is untouched by the limit: on make_coil's bent ellipsoid it is the
+// embedding kept, with or without the limit, and the maps are the same.
+TEST(ProgressiveEmbedding, KeepsAUniformSpreadingThatNeedsNoSpread) {
+  const Mesh coil = testing::make_coil(3, 0.1);
+  const spherical::MapContext context(coil);
+  const spherical::FlowResult limited = spherical::progressive_map(context, {});
+  ProgressiveOptions no_limit;
+  no_limit.uniform_max_spreads = 0;
+  const spherical::FlowResult full = spherical::progressive_map(context, no_limit);
+  ASSERT_EQ(limited.status, MapStatus::Ok) << limited.message;
+  EXPECT_NE(limited.message.find("uniform spreading"), std::string::npos) << limited.message;
+  EXPECT_EQ(spreads_of(limited.message, "uniform"), 0) << limited.message;
+  EXPECT_TRUE(limited.vertices == full.vertices);
 }
 
 }  // namespace
