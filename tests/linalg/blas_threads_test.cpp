@@ -1,7 +1,6 @@
 // stop_blas_threads (core/common/thread_policy.hpp): OpenBLAS's helper threads are gone afterwards, and the BLAS
-// still computes — on one thread, and on two again once asked for (it restarts its threads). Own executable: it
-// counts the threads of this process.
-#include <filesystem>
+// still computes — on one thread, and on two again once asked for (it restarts its threads). It counts the threads
+// of this process: ctest runs each test in a process of its own (gtest_discover_tests).
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -9,31 +8,13 @@
 #include "core/common/thread_policy.hpp"
 #include "core/linalg/blas_info.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
+#include "tests/linalg/thread_test_support.hpp"
 
 namespace wish::linalg {
 namespace {
 
-long thread_count() {
-  long n = 0;
-  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) ++n;
-  return n;
-}
-
-// Shifted 5-point Laplacian of an n×n grid (SPD); at n = 150 the supernodal factor's BLAS calls are large enough
-// for OpenBLAS to use its threads.
-Eigen::SparseMatrix<double> shifted_grid_laplacian(int n) {
-  std::vector<Eigen::Triplet<double>> t;
-  auto id = [n](int i, int j) { return i * n + j; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      t.emplace_back(id(i, j), id(i, j), 4.01);
-      if (i + 1 < n) t.emplace_back(id(i + 1, j), id(i, j), -1.0), t.emplace_back(id(i, j), id(i + 1, j), -1.0);
-      if (j + 1 < n) t.emplace_back(id(i, j + 1), id(i, j), -1.0), t.emplace_back(id(i, j), id(i, j + 1), -1.0);
-    }
-  Eigen::SparseMatrix<double> l(n * n, n * n);
-  l.setFromTriplets(t.begin(), t.end());
-  return l;
-}
+using test_support::process_thread_count;
+using test_support::shifted_grid_laplacian;
 
 // ‖A x − b‖ / ‖b‖ of a supernodal solve (the factorisation runs dsyrk/dgemm/dtrsm in OpenBLAS).
 double relative_residual(const Eigen::SparseMatrix<double>& a) {
@@ -50,7 +31,7 @@ TEST(BlasThreads, StopJoinsTheHelperThreadsAndTheBlasStillComputes) {
   if (!blas_info().openblas) GTEST_SKIP() << "the BLAS is not OpenBLAS: " << blas_info().name;
   const Eigen::SparseMatrix<double> a = shifted_grid_laplacian(150);
   ASSERT_TRUE(set_blas_thread_count(2));
-  const long with_helpers = thread_count();
+  const long with_helpers = process_thread_count();
   ASSERT_GE(with_helpers, 2) << "OpenBLAS started no helper thread for 2 threads";
   const double r2 = relative_residual(a);
   EXPECT_GE(r2, 0);
@@ -59,11 +40,11 @@ TEST(BlasThreads, StopJoinsTheHelperThreadsAndTheBlasStillComputes) {
   // The count first: OpenBLAS's openblas_set_num_threads restarts a stopped thread server (for its use after fork).
   ASSERT_TRUE(set_blas_thread_count(1));
   ASSERT_TRUE(stop_blas_threads());
-  EXPECT_EQ(thread_count(), with_helpers - 1);  // OpenBLAS's one helper for 2 threads, joined
+  EXPECT_EQ(process_thread_count(), with_helpers - 1);  // OpenBLAS's one helper for 2 threads, joined
   const double r1 = relative_residual(a);
   EXPECT_GE(r1, 0);
   EXPECT_LT(r1, 1e-12);
-  EXPECT_EQ(thread_count(), with_helpers - 1);  // one BLAS thread starts none
+  EXPECT_EQ(process_thread_count(), with_helpers - 1);  // one BLAS thread starts none
 
   ASSERT_TRUE(set_blas_thread_count(2));  // asked for again: restarted, and still right
   const double again = relative_residual(a);
