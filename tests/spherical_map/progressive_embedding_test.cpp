@@ -298,17 +298,24 @@ int spreads_of(const std::string& message, const std::string& name) {
   return std::stoi(m[1].str());
 }
 
+// The progressive map of `mesh` with the default uniform spread limit and without any limit.
+struct WithAndWithoutSpreadLimit {
+  spherical::FlowResult limited, full;
+};
+WithAndWithoutSpreadLimit map_with_and_without_spread_limit(const Mesh& mesh) {
+  const spherical::MapContext context(mesh);
+  ProgressiveOptions no_limit;
+  no_limit.uniform_max_spreads = 0;
+  return {spherical::progressive_map(context, {}), spherical::progressive_map(context, no_limit)};
+}
+
 // The uniform spreading is given up at ProgressiveOptions::uniform_max_spreads: on a thin tube with even faces it
 // crowds the tube (a kernel thinner than the height margin, again and again) and loses to the stretch spreading,
 // so the map with the limit is the map without it, bit for bit — the limit only saves the spreads (on the fine
 // 6-turn coil: 2,446 of them, ~2 CPU s).
 TEST(ProgressiveEmbedding, GivesUpACrowdedUniformSpreadingWithTheSameMap) {
   const Mesh tube = tube_coil(2, 0.1, 6);
-  const spherical::MapContext context(tube);
-  const spherical::FlowResult limited = spherical::progressive_map(context, {});
-  ProgressiveOptions no_limit;
-  no_limit.uniform_max_spreads = 0;
-  const spherical::FlowResult full = spherical::progressive_map(context, no_limit);
+  const auto [limited, full] = map_with_and_without_spread_limit(tube);
   ASSERT_EQ(limited.status, MapStatus::Ok) << limited.message;
   ASSERT_EQ(full.status, MapStatus::Ok) << full.message;
   EXPECT_NE(limited.message.find("uniform given up"), std::string::npos) << limited.message;
@@ -322,12 +329,7 @@ TEST(ProgressiveEmbedding, GivesUpACrowdedUniformSpreadingWithTheSameMap) {
 // A uniform spreading that needs no spread is untouched by the limit: on make_coil's bent ellipsoid it is the
 // embedding kept, with or without the limit, and the maps are the same.
 TEST(ProgressiveEmbedding, KeepsAUniformSpreadingThatNeedsNoSpread) {
-  const Mesh coil = testing::make_coil(3, 0.1);
-  const spherical::MapContext context(coil);
-  const spherical::FlowResult limited = spherical::progressive_map(context, {});
-  ProgressiveOptions no_limit;
-  no_limit.uniform_max_spreads = 0;
-  const spherical::FlowResult full = spherical::progressive_map(context, no_limit);
+  const auto [limited, full] = map_with_and_without_spread_limit(testing::make_coil(3, 0.1));
   ASSERT_EQ(limited.status, MapStatus::Ok) << limited.message;
   EXPECT_NE(limited.message.find("uniform spreading"), std::string::npos) << limited.message;
   EXPECT_EQ(spreads_of(limited.message, "uniform"), 0) << limited.message;
