@@ -27,7 +27,9 @@ TEST(IntrinsicOperator, LaplacianIsTheEdgeListAssembledAndTheEdgesAreSortedAndDi
     mesh.vertices(i, 2) = 0.15 * std::round(mesh.vertices(i, 2) / 0.15);
   for (const LaplacianKind kind : {LaplacianKind::Mollified, LaplacianKind::IntrinsicDelaunay}) {
     const IntrinsicOperator op = intrinsic_operator(mesh.vertices, mesh.faces, {kind});
-    if (kind == LaplacianKind::IntrinsicDelaunay) EXPECT_GT(op.stats.flips, 0);
+    if (kind == LaplacianKind::IntrinsicDelaunay) {
+      EXPECT_GT(op.stats.flips, 0);
+    }
     const Eigen::Index n = mesh.vertex_count();
     std::vector<Eigen::Triplet<double>> t;
     Eigen::VectorXd diag = Eigen::VectorXd::Zero(n);

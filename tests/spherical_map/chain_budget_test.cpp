@@ -18,6 +18,7 @@
 #include "core/spherical_map/untangle.hpp"
 #include "core/validation/mesh_report.hpp"
 #include "tests/spherical_map/coil_mesh.hpp"
+#include "tests/spherical_map/map_checks.hpp"
 
 namespace wish {
 namespace {
@@ -26,14 +27,7 @@ namespace {
 // projection of the unflowed surface folds over and only a flow or the linear method maps it bijectively.
 using testing::make_coil;
 
-void expect_bijective(const SphericalMapResult& r) {
-  EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts.back().message;
-  EXPECT_EQ(r.quality.flipped_faces, 0);
-  EXPECT_EQ(r.quality.degenerate_faces, 0);
-  EXPECT_EQ(r.quality.degree, 1);
-  EXPECT_EQ(r.quality.non_finite_vertices, 0);
-  EXPECT_NE(r.verdict, MapVerdict::Failed);
-}
+using testing::expect_bijective;
 
 TEST(ChainBudget, ASpentBudgetStillEndsOnAVerifiedBijectiveMapAndReportsEveryStop) {
   const Mesh coil = make_coil();

@@ -14,16 +14,13 @@
 #include "core/spherical_map/map_verification.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "tests/testing/test_data.hpp"
+#include "tests/spherical_map/map_checks.hpp"
 
 namespace wish {
 namespace {
 
-template <class F>
-Mesh deformed_icosphere(int level, F f) {
-  Mesh m = make_icosphere(level);
-  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) m.vertices.row(i) = f(Eigen::Vector3d(m.vertices.row(i))).transpose();
-  return m;
-}
+using testing::deformed_icosphere;
+using testing::expect_bijective;
 
 Mesh dumbbell() {  // the neck of real_mesh_test (radius 0.15 of the bulbs' 1)
   return deformed_icosphere(4, [](const Eigen::Vector3d& p) {
@@ -44,14 +41,6 @@ SphericalMapOptions corrected_cmcf() {
   o.area_correction.method = AreaCorrection::DensityEqualizing;
   o.area_correction.budget_seconds = 0;
   return o;
-}
-
-void expect_bijective(const SphericalMapResult& r) {
-  EXPECT_TRUE(r.ok()) << to_string(r.failed_check);
-  EXPECT_EQ(r.quality.flipped_faces, 0);
-  EXPECT_EQ(r.quality.degenerate_faces, 0);
-  EXPECT_EQ(r.quality.degree, 1);
-  EXPECT_NE(r.verdict, MapVerdict::Failed);
 }
 
 void print(const char* what, const AreaCorrectionReport& c) {

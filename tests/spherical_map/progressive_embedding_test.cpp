@@ -24,6 +24,7 @@
 #include "core/validation/mesh_report.hpp"
 #include "tests/spherical_map/coil_mesh.hpp"
 #include "tests/testing/test_data.hpp"
+#include "tests/spherical_map/map_checks.hpp"
 
 namespace wish {
 namespace {
@@ -43,12 +44,7 @@ MapQuality progressive_quality(const Mesh& m, Eigen::MatrixX3d* sphere = nullptr
   return spherical::measure_map(m.vertices, m.faces, r.vertices, {});
 }
 
-void expect_bijective(const MapQuality& q) {
-  EXPECT_EQ(q.non_finite_vertices, 0);
-  EXPECT_EQ(q.flipped_faces, 0);
-  EXPECT_EQ(q.degenerate_faces, 0);
-  EXPECT_EQ(q.degree, 1);
-}
+using testing::expect_bijective;
 
 // Two unit balls joined by a neck of radius `neck` (an icosphere of level 4 stretched along x).
 Mesh make_dumbbell(double neck) {

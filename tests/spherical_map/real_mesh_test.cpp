@@ -16,18 +16,17 @@
 #include "core/validation/mesh_report.hpp"
 #include "tests/spherical_map/coil_mesh.hpp"
 #include "tests/testing/test_data.hpp"
+#include "tests/spherical_map/map_checks.hpp"
 
 namespace wish {
 namespace {
 
+using testing::deformed_icosphere;
+
+// testing::expect_bijective, with the mesh's name on a failure and a line of figures for the log.
 void expect_bijective(const SphericalMapResult& r, const char* what) {
   SCOPED_TRACE(what);
-  EXPECT_EQ(r.quality.flipped_faces, 0);
-  EXPECT_EQ(r.quality.degenerate_faces, 0);
-  EXPECT_EQ(r.quality.degree, 1);
-  EXPECT_EQ(r.quality.non_finite_vertices, 0);
-  EXPECT_NE(r.verdict, MapVerdict::Failed);
-  EXPECT_TRUE(r.ok()) << to_string(r.failed_check) << ": " << r.attempts.back().message;
+  testing::expect_bijective(r);
   std::printf("[real] %-28s V=%5ld method %-8s attempts %zu K mean/p99 %.3f/%.3f verdict %s eps %.1e flips %ld "
               "neg.weights %ld repaired %ld stop %s %.2fs\n",
               what, static_cast<long>(r.sphere.rows()), to_string(r.method_used), r.attempts.size(),
@@ -67,14 +66,6 @@ Mesh split_vertex(const Mesh& mesh, int v) {
   out.faces.row(nf) = Eigen::RowVector3i(v, a, twin);
   out.faces.row(nf + 1) = Eigen::RowVector3i(v, twin, b);
   return out;
-}
-
-// Deforms the unit icosphere: p ↦ f(p).
-template <class F>
-Mesh deformed_icosphere(int level, F f) {
-  Mesh m = make_icosphere(level);
-  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) m.vertices.row(i) = f(Eigen::Vector3d(m.vertices.row(i))).transpose();
-  return m;
 }
 
 TEST(IntrinsicOperator, DelaunayFlipsRemoveEveryNegativeWeightAndKeepTheMetric) {

@@ -62,8 +62,11 @@ TEST(StarKernelRepair, PutsAVertexPushedAcrossItsLinkBackIntoItsKernelMovingNoth
   EXPECT_GT(r.bad_faces_before, 0);
   EXPECT_EQ(r.bad_faces_after, 0);
   EXPECT_EQ(r.moved_vertices, 1);
-  for (Eigen::Index i = 0; i < sphere.rows(); ++i)
-    if (i != v) EXPECT_TRUE(sphere.row(i) == pushed.row(i)) << "vertex " << i << " moved";
+  for (Eigen::Index i = 0; i < sphere.rows(); ++i) {
+    if (i != v) {
+      EXPECT_TRUE(sphere.row(i) == pushed.row(i)) << "vertex " << i << " moved";
+    }
+  }
   EXPECT_NEAR(sphere.row(v).norm(), 1.0, 1e-12);
   const MapQuality q = measure_map(m.vertices, m.faces, sphere, MapVerificationThresholds{});
   EXPECT_EQ(q.flipped_faces, 0);
