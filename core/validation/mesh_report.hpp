@@ -33,6 +33,7 @@ struct MeshReport {
   double signed_volume = 0;               // (1/6) sum x0 . (x1 x x2); > 0 for outward orientation
   double area = 0;
   std::array<double, 3> bbox_min{}, bbox_max{};
+  bool operator==(const MeshReport&) const = default;  // every field, one added later included
 };
 
 // One reason a mesh cannot be mapped; `code` is machine-readable ("genus_nonzero", "not_closed",
