@@ -9,8 +9,8 @@
 // (which the previous guard used to stop the 4-thread clause), also reads the load average and the affinity mask
 // (two more system calls) per region whose `if` is true. Measured on nucleus-1 (`strace -c`, `perf`): 102,280 futex
 // calls per `wish map`, a quarter of the process's CPU time in the kernel; running the regions inline cut the
-// process's CPU time by 20 % (paired whole-process runs, the same bypass preloaded into the old binary: A/B cpu 0.80), with a
-// bitwise-identical map (docs/benchmarks.md).
+// process's CPU time by 20 % (paired whole-process runs, the same bypass preloaded into the old binary: A/B cpu
+// 0.80), with a bitwise-identical map (docs/benchmarks.md).
 //
 // How: this library defines GOMP_parallel (libgomp's entry point for a parallel region, GCC's ABI since GCC 4.9), so
 // the dynamic linker binds CHOLMOD's and our own calls to it ahead of libgomp's. While a SerialOpenMpScope is alive

@@ -13,8 +13,8 @@
 #include "core/spherical_map/density_equalizing.hpp"
 #include "core/spherical_map/map_verification.hpp"
 #include "core/spherical_map/spherical_map.hpp"
-#include "tests/testing/test_data.hpp"
 #include "tests/spherical_map/map_checks.hpp"
+#include "tests/testing/test_data.hpp"
 
 namespace wish {
 namespace {

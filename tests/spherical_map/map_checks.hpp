@@ -13,7 +13,8 @@ namespace wish::testing {
 template <class F>
 Mesh deformed_icosphere(int level, F f) {
   Mesh m = make_icosphere(level);
-  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) m.vertices.row(i) = f(Eigen::Vector3d(m.vertices.row(i))).transpose();
+  for (Eigen::Index i = 0; i < m.vertex_count(); ++i)
+    m.vertices.row(i) = f(Eigen::Vector3d(m.vertices.row(i))).transpose();
   return m;
 }
 

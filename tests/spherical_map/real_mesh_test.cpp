@@ -15,8 +15,8 @@
 #include "core/spherical_map/spherical_map.hpp"
 #include "core/validation/mesh_report.hpp"
 #include "tests/spherical_map/coil_mesh.hpp"
-#include "tests/testing/test_data.hpp"
 #include "tests/spherical_map/map_checks.hpp"
+#include "tests/testing/test_data.hpp"
 
 namespace wish {
 namespace {
