@@ -12,6 +12,8 @@ const char* to_string(FitSolver solver) { return kFitSolverNames.name(solver); }
 
 const char* to_string(GramMethod method) { return kGramMethodNames.name(method); }
 
+const char* to_string(FitSampling sampling) { return kFitSamplingNames.name(sampling); }
+
 FitWeighting fit_weighting_from_name(const std::string& name) {
   return kFitWeightingNames.parse(name, "fit weighting", "value");
 }
@@ -22,6 +24,10 @@ FitSolver fit_solver_from_name(const std::string& name) {
 
 GramMethod gram_method_from_name(const std::string& name) {
   return kGramMethodNames.parse(name, "Gram method", "value");
+}
+
+FitSampling fit_sampling_from_name(const std::string& name) {
+  return kFitSamplingNames.parse(name, "fit sampling", "value");
 }
 
 }  // namespace wish

@@ -19,14 +19,20 @@ enum class FitSolver { Direct, Banded };    // one LDLT solve; or the paper's re
 //   Quadrature: from the degree-2*Lmax moments of the weighted points, O(n Lmax^2 + Lmax^5) (default);
 //   Product:    blocked matrix product of the n x k basis matrix, O(n k^2).
 enum class GramMethod { Quadrature, Product };
+// Where the fit's objective is sampled (issue 37 item 3): at the input's vertices with `weighting` (the paper's fit;
+// recipes before version 4), or over the input's surface by quadrature (surface_quadrature.hpp: area weights over
+// sub-triangles, so the objective and ξ do not depend on how finely the shape is triangulated).
+enum class FitSampling { Vertices, Surface };
 
 const char* to_string(FitWeighting weighting);
 const char* to_string(FitSolver solver);
 const char* to_string(GramMethod method);
+const char* to_string(FitSampling sampling);
 // Inverses of to_string ("area" | "uniform", "direct" | "banded", "quadrature" | "product"); throw InvalidInputError.
 FitWeighting fit_weighting_from_name(const std::string& name);
 FitSolver fit_solver_from_name(const std::string& name);
 GramMethod gram_method_from_name(const std::string& name);
+FitSampling fit_sampling_from_name(const std::string& name);  // "vertices" | "surface"
 
 struct ShFitOptions {
   int lmax = 15;
@@ -38,6 +44,7 @@ struct ShFitOptions {
   FitSolver solver = FitSolver::Direct;
   int band_size = 100;            // max coefficients per band for the banded solver
   GramMethod gram = GramMethod::Quadrature;
+  FitSampling sampling = FitSampling::Vertices;  // Surface: weighting is ignored (the surface's own area measure)
   bool operator==(const ShFitOptions&) const = default;
 };
 

@@ -15,6 +15,7 @@
 #include "core/sh/sh_conversion.hpp"
 #include "core/sh/sh_gram.hpp"
 #include "core/sh/sh_invariants.hpp"
+#include "core/sh/surface_quadrature.hpp"
 
 namespace wish {
 namespace {
@@ -166,8 +167,15 @@ ShDescriptor fit_spherical_harmonics(const Mesh& input, const Eigen::MatrixX3d& 
                                      const ShFitOptions& options) {
   check_options(options);
   check_points(sphere_points, input.vertex_count());
-  const Eigen::VectorXd w = fit_weights(input, options.weighting);
-  const Eigen::MatrixX3d real = fit_real_sh(sphere_points, input.vertices, w, options);
+  Eigen::MatrixX3d real;
+  if (options.sampling == FitSampling::Surface) {
+    const SurfaceSamples samples = surface_quadrature(input, sphere_points, options.lmax);
+    if (!(samples.weights.sum() > 0))
+      throw InvalidInputError("degenerate_mesh", "the mesh has zero total area; the surface fit is undefined");
+    real = fit_real_sh(samples.sphere_points, samples.targets, samples.weights, options);
+  } else {
+    real = fit_real_sh(sphere_points, input.vertices, fit_weights(input, options.weighting), options);
+  }
   ShDescriptor d;
   d.lmax = options.lmax;
   d.options = options;

@@ -19,4 +19,8 @@ inline constexpr EnumNames<GramMethod, 2> kGramMethodNames{{{
     {GramMethod::Quadrature, "quadrature"},
     {GramMethod::Product, "product"}}}};
 
+inline constexpr EnumNames<FitSampling, 2> kFitSamplingNames{{{
+    {FitSampling::Vertices, "vertices"},
+    {FitSampling::Surface, "surface"}}}};
+
 }  // namespace wish

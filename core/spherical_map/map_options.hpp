@@ -4,6 +4,7 @@
 // chain's budgets and the area correction.
 
 #include "core/geometry/intrinsic_laplacian.hpp"
+#include "core/spherical_map/canonical_map.hpp"
 #include "core/spherical_map/cmcf.hpp"
 #include "core/spherical_map/density_equalizing.hpp"
 #include "core/spherical_map/linear_map.hpp"
@@ -56,6 +57,11 @@ struct SphericalMapOptions {
   // (bijectivity: flips, degeneracy, degree); `quality` then describes the corrected map, and the conformal
   // distortion bound (strict_conformal_bound) applies to the conformal map before the correction.
   AreaCorrectionOptions area_correction;
+  // Added (issue 37, beyond the paper): the map the descriptor is computed on. None: the chain's own map (the
+  // paper's conformal map when a flow made it). Isometric: the chain's map, whichever attempt made it, relaxed to the
+  // canonical map of canonical_map.hpp (one definition for every mesh; the chain then only has to find a bijective
+  // start). Applied to an Ok map after the chain (and instead of the area correction, which it supersedes).
+  CanonicalMapOptions canonical;
   // Added: an Ok map made by `method` is kept against any other method's Ok map, whatever their distortion, and
   // the chain then runs only that method's later attempts. Set for a model whose off-recipe policy refuses other
   // methods' maps (pipeline.cpp options_for_recipe): for it a bijective map by its own method is an answer and

@@ -1,5 +1,5 @@
 // compute_spherical_map(): the context of the mesh (map_context.hpp), the chain (map_chain.hpp) and, for an Ok
-// map, the optional area-aware correction (density_equalizing.hpp).
+// map, the canonical map (canonical_map.hpp) or the optional area-aware correction (density_equalizing.hpp).
 #include "core/spherical_map/spherical_map.hpp"
 
 #include <chrono>
@@ -44,6 +44,34 @@ void correct_area(const Mesh& mesh, const SphericalMapOptions& options, const Ei
   result.area_correction = report;
 }
 
+// The canonical map (canonical_map.hpp) relaxed from the chain's Ok map, re-verified: every accepted step is
+// bijective, so a failed re-verification is not expected; if it happens the chain's map is kept (stop Reverted).
+void relax_to_canonical(const Mesh& mesh, const SphericalMapOptions& options, const Eigen::VectorXd& input_mass,
+                        SphericalMapResult& result) {
+  const profile::ScopedStage stage("map.canonical");
+  Eigen::MatrixX3d relaxed = result.sphere;
+  CanonicalMapReport report = spherical::relax_to_canonical_map(relaxed, mesh.vertices, mesh.faces, options.canonical,
+                                                                options.verification.degenerate_height);
+  MapQuality quality = spherical::measure_map(mesh.vertices, mesh.faces, relaxed, options.verification);
+  MapVerificationThresholds bijective_only = options.verification;
+  bijective_only.strict_conformal_bound = false;  // the canonical map trades conformality for area by design
+  if (spherical::failed_map_check(quality, bijective_only) != MapCheck::None) {
+    report.stop = CanonicalMapStop::Reverted;
+    report.converged = false;
+    result.canonical = report;
+    return;
+  }
+  quality.repaired_vertices = result.quality.repaired_vertices;
+  quality.roundness = result.quality.roundness;
+  quality.mobius_iterations = result.quality.mobius_iterations;
+  const Eigen::VectorXd w = input_mass / input_mass.sum();
+  quality.mobius_centroid = Eigen::Vector3d(relaxed.transpose() * w).norm();  // area centroid of the canonical map
+  result.sphere = std::move(relaxed);
+  result.quality = quality;
+  result.verdict = quality.verdict;
+  result.canonical = report;
+}
+
 }  // namespace
 
 SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOptions& options, const Deadline& deadline) {
@@ -68,7 +96,9 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   result.verdict = chosen.quality.verdict;
   result.operator_stats = chosen.operator_stats;
   result.method_used = chosen.method;
-  if (options.area_correction.method != AreaCorrection::None && result.ok())
+  if (options.canonical.method != CanonicalMap::None && result.ok())
+    relax_to_canonical(mesh, options, context.input_mass(), result);
+  else if (options.area_correction.method != AreaCorrection::None && result.ok())
     correct_area(mesh, options, context.input_mass(), result);
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   result.cpu_seconds = CpuBudget::thread_cpu_seconds() - cpu0;

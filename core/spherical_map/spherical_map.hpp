@@ -56,6 +56,10 @@ struct SphericalMapResult {
   // Added: the area-aware correction of the returned map (stop NotRun when options.area_correction is none or the
   // map is not Ok).
   AreaCorrectionReport area_correction;
+  // Added (issue 37): the relaxation to the canonical map (stop NotRun when options.canonical.method is None or the
+  // chain's map is not Ok). `sphere` and `quality` then describe the canonical map; method_used and the attempts
+  // still say which attempt made its start.
+  CanonicalMapReport canonical;
   double seconds = 0;
   double cpu_seconds = 0;            // Added: CPU seconds of the calling thread for the whole chain
   bool ok() const { return status == MapStatus::Ok; }
