@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   std::vector<std::string> starts{"cmcf", "willmore", "linear", "progressive"};
   std::string canonical = "isometric";
+  std::string area_correction = "none";
   ShFitOptions fit;
   fit.lmax = 10;
   fit.regularization = 1e-1;
@@ -89,6 +90,7 @@ int main(int argc, char** argv) {
     const auto next = [&] { return std::string(argv[++i]); };
     if (a == "--starts") starts = split(next());
     else if (a == "--canonical") canonical = next();
+    else if (a == "--area-correction") area_correction = next();
     else if (a == "--lmax") fit.lmax = std::stoi(next());
     else if (a == "--nu") fit.regularization = std::stod(next());
     else if (a == "--subdivide") subdivide = std::stoi(next());
@@ -97,6 +99,7 @@ int main(int argc, char** argv) {
   }
   SphericalMapOptions base;
   base.canonical.method = canonical == "none" ? CanonicalMap::None : CanonicalMap::Isometric;
+  base.area_correction.method = area_correction_from_name(area_correction);
   for (const std::string& file : files) {
     try {
       PreparedMesh prepared = prepare_for_mapping(read_mesh_file(file).mesh);

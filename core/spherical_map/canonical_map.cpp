@@ -23,6 +23,8 @@ namespace wish::spherical {
 namespace canonical_map_detail {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Levenberg–Marquardt damping, relative to the Hessian's mean diagonal.
+constexpr double kInitialDamping = 1e-6, kMinimalDamping = 1e-10, kMaximalDamping = 1e2;
 
 // Per input face: the inverse of its reference edge matrix Dm = [c₁ − c₀, c₂ − c₀] (the triangle laid out in its
 // plane from mollified lengths, scaled so that the surface's total area is 4π) and its area share w_f.
@@ -70,9 +72,14 @@ ReferenceTriangles reference_triangles(const Eigen::MatrixX3d& x, const Eigen::M
   return ref;
 }
 
-// The chord triangle of face f on the sphere in its own plane: E = [b₁ b₂] (3×2 orthonormal, b₁ along p₁ − p₀, the
-// normal b₁ × b₂ pointing outward) and Ds = the local coordinates of p₁ − p₀, p₂ − p₀. False when the face is
-// flipped or numerically degenerate (is_bad_sphere_face).
+// Face f on the sphere, projected to the plane through its centroid direction m = (p₀ + p₁ + p₂)/‖·‖: E = [b₁ b₂]
+// (3×2 orthonormal, ⟂ m, b₁ along the projection of p₁ − p₀, b₁ × b₂ = m) and Ds = the local coordinates of
+// p₁ − p₀, p₂ − p₀. Projected, not the chord triangle in its own plane: three points on one great circle span a chord
+// triangle of positive area whose plane contains the origin (a collapsed spherical triangle: the verification's
+// n·(p₀+p₁+p₂) > 0 fails); projected onto ⟂ m it has area → 0, so the energy's det F barrier sees the collapse
+// (measured: the chord form let steps of 1e-8 flip such faces on a real spine). Derivatives treat m as fixed: m's
+// rotation changes the projection only by O((m·e)/‖e‖) = O(edge length) relative. False when the projected
+// triangle is flipped or the face is numerically degenerate (is_bad_sphere_face).
 struct ChordFrame {
   Eigen::Matrix<double, 3, 2> axes;
   Eigen::Matrix2d shape;
@@ -81,14 +88,15 @@ struct ChordFrame {
 bool chord_frame(const Eigen::MatrixX3d& u, const Eigen::MatrixX3i& faces, Eigen::Index f, double min_height,
                  ChordFrame& frame) {
   if (is_bad_sphere_face(u, faces, f, min_height)) return false;
-  const Eigen::Vector3d p0 = u.row(faces(f, 0)), e1 = u.row(faces(f, 1)) - p0.transpose(),
-                        e2 = u.row(faces(f, 2)) - p0.transpose();
-  const Eigen::Vector3d b1 = e1.normalized();
-  const Eigen::Vector3d b2 = e1.cross(e2).normalized().cross(b1);
+  const Eigen::Vector3d p0 = u.row(faces(f, 0)), p1 = u.row(faces(f, 1)), p2 = u.row(faces(f, 2));
+  const Eigen::Vector3d m = (p0 + p1 + p2).normalized();
+  const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
+  const Eigen::Vector3d b1 = (e1 - e1.dot(m) * m).normalized();
+  const Eigen::Vector3d b2 = m.cross(b1);
   frame.axes.col(0) = b1;
   frame.axes.col(1) = b2;
-  frame.shape << e1.norm(), e2.dot(b1), 0.0, e2.dot(b2);
-  return true;
+  frame.shape << e1.dot(b1), e2.dot(b1), 0.0, e2.dot(b2);
+  return frame.shape(1, 1) > 0;
 }
 
 // An orthonormal basis of the tangent plane at each sphere point (3×2 per vertex).
@@ -113,11 +121,12 @@ class Relaxation {
         reference_(reference_triangles(x, faces, options.mollify_delta)) {}
 
   double energy(const Eigen::MatrixX3d& u) const {
+    const std::vector<Eigen::Matrix2d>& inverse_shape = reference_.inverse_shape;
     double e = 0;
     ChordFrame frame;
     for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
       if (!chord_frame(u, faces_, f, min_height_, frame)) return kInfinity;
-      const double psi = options_.energy.value(frame.shape * reference_.inverse_shape[static_cast<size_t>(f)]);
+      const double psi = options_.energy.value(frame.shape * inverse_shape[static_cast<size_t>(f)]);
       if (!std::isfinite(psi)) return kInfinity;
       e += reference_.weight(f) * psi;
     }
@@ -143,6 +152,7 @@ class Relaxation {
     linalg::SparseCholesky cholesky;
     Eigen::VectorXd g;
     report.stop = CanonicalMapStop::IterationCap;
+    double damping = kInitialDamping;
     for (int it = 0; it < options_.max_iterations; ++it) {
       if (budget.expired()) {
         report.stop = CanonicalMapStop::TimeBudget;
@@ -150,17 +160,22 @@ class Relaxation {
       }
       const auto bases = tangent_bases(u);
       assemble(u, bases, g);
-      // Global rotations leave E unchanged (a 3-dimensional null space of the Hessian) and the projection may add
-      // more: a small diagonal shift keeps the system definite; a failed factorisation raises it.
+      // Global rotations leave E unchanged (a 3-dimensional null space of the Hessian), the projection may add more,
+      // and the Hessian omits the sphere's curvature terms: a Levenberg–Marquardt shift keeps the system definite and
+      // the step inside the region where the model holds. It shrinks after a full step and grows after a halved one
+      // (measured on real spines: a fixed 1e-10 shift stalls at 20 halvings per step, 1e-6 adaptive converges).
       const double mean_diagonal = hessian_.diagonal().mean();
-      double shift = 1e-10 * mean_diagonal;
+      double shift = damping * mean_diagonal;
       bool factored = false;
-      for (int attempt = 0; attempt < 6 && !factored; ++attempt, shift *= 100) factored = cholesky.factorize(hessian_, shift);
+      for (int attempt = 0; attempt < 6 && !factored; ++attempt) {
+        factored = cholesky.factorize(hessian_, shift);
+        if (!factored) shift *= 100;
+      }
       if (!factored) {
         report.stop = CanonicalMapStop::SolverFailed;
         break;
       }
-      report.shift = std::max(report.shift, shift / 100);  // the loop raised it once more after the success
+      report.shift = std::max(report.shift, shift);
       const Eigen::VectorXd step = -cholesky.solve(g);
       const double decrement = -g.dot(step);
       report.last_decrement = decrement;
@@ -178,7 +193,7 @@ class Relaxation {
       for (Eigen::Index i = 0; i < u.rows(); ++i) largest = std::max(largest, step.segment<2>(2 * i).norm());
       double alpha = std::min(1.0, 0.25 / std::max(largest, 1e-300));
       Eigen::MatrixX3d trial(u.rows(), 3);
-      bool accepted = false;
+      bool accepted = false, alpha_taken_full = false;
       for (int h = 0; h <= options_.max_halvings; ++h, alpha *= 0.5) {
         for (Eigen::Index i = 0; i < u.rows(); ++i)
           trial.row(i) = (u.row(i).transpose() + alpha * bases[static_cast<size_t>(i)] * step.segment<2>(2 * i))
@@ -189,14 +204,20 @@ class Relaxation {
           u.swap(trial);
           e = e_trial;
           accepted = true;
+          alpha_taken_full = h == 0;
           break;
         }
         ++report.halvings;
       }
       if (!accepted) {
+        if (damping < kMaximalDamping) {  // a stiffer, shorter step may still descend
+          damping = std::min(kMaximalDamping, damping * 1e3);
+          continue;
+        }
         report.stop = CanonicalMapStop::LineSearchFailed;
         break;
       }
+      damping = !alpha_taken_full ? std::min(kMaximalDamping, damping * 10) : std::max(kMinimalDamping, damping * 0.3);
       ++report.iterations;
     }
     report.converged = report.stop == CanonicalMapStop::Converged;
