@@ -41,6 +41,8 @@ struct DescribeOptions {
   FitWeighting weights = PipelineOptions{}.sh.weighting;
   FitSolver solver = PipelineOptions{}.sh.solver;
   std::string area_correction = "none";
+  std::string canonical = to_string(CanonicalMapOptions{}.method);
+  std::string sampling = to_string(ShFitOptions{}.sampling);
   double regularization = PipelineOptions{}.sh.regularization;
   bool quiet = false;
   VolumeCliOptions volume;
@@ -171,6 +173,14 @@ CommandRunner setup_describe(CLI::App& sub) {
   sub.add_option("--area-correction", options->area_correction,
                  "After the conformal map: none (the paper's map) or density_equalizing (area-aware, beyond the paper)")
       ->check(CLI::IsMember({"none", "density_equalizing", "dem"}))->capture_default_str();
+  sub.add_option("--canonical", options->canonical,
+                 "The map the descriptor is computed on: isometric (the canonical map, relaxed from whichever map the "
+                 "chain found: one definition for every mesh, issue 37) | none (the chain's own map)")
+      ->check(CLI::IsMember({"none", "isometric"}))->capture_default_str();
+  sub.add_option("--sampling", options->sampling,
+                 "Where the SH fit samples the surface: surface (quadrature over every face: independent of the "
+                 "triangulation) | vertices (the paper)")
+      ->check(CLI::IsMember({"vertices", "surface"}))->capture_default_str();
   add_enum_option(sub, "--weights", options->weights, kFitWeightingNames,
                   "Fit weights: input vertex areas or uniform (the paper)");
   add_enum_option(sub, "--solver", options->solver, kFitSolverNames,
@@ -185,6 +195,8 @@ CommandRunner setup_describe(CLI::App& sub) {
     PipelineOptions po;
     apply_overrides(options->overrides, po);
     po.map.area_correction.method = area_correction_from_name(options->area_correction);
+    po.map.canonical.method = canonical_map_from_name(options->canonical);
+    po.sh.sampling = fit_sampling_from_name(options->sampling);
     po.sh.weighting = options->weights;
     po.sh.solver = options->solver;
     po.sh.regularization = options->regularization;

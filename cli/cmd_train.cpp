@@ -70,6 +70,8 @@ struct TrainCliOptions {
   FitWeighting weights = FitWeighting::Area;
   FitSolver solver = FitSolver::Direct;
   std::string area_correction = "none";
+  std::string canonical = to_string(CanonicalMapOptions{}.method);
+  std::string sampling = to_string(ShFitOptions{}.sampling);
   double regularization = 1e-1;
   double test_fraction = 0.2;
   OffRecipePolicy off_recipe = OffRecipePolicy::Refuse;
@@ -110,6 +112,14 @@ CommandRunner setup_train(CLI::App& sub) {
                  "Area-aware correction after the conformal map, part of the recipe: none (the paper's map) | "
                  "density_equalizing (beyond the paper)")
       ->check(CLI::IsMember({"none", "density_equalizing", "dem"}))->capture_default_str();
+  sub.add_option("--canonical", o->canonical,
+                 "The map the descriptor is computed on: isometric (the canonical map, relaxed from whichever map the "
+                 "chain found: one definition for every mesh, issue 37) | none (the chain's own map)")
+      ->check(CLI::IsMember({"none", "isometric"}))->capture_default_str();
+  sub.add_option("--sampling", o->sampling,
+                 "Where the SH fit samples the surface: surface (quadrature over every face: independent of the "
+                 "triangulation) | vertices (the paper)")
+      ->check(CLI::IsMember({"vertices", "surface"}))->capture_default_str();
   sub.add_flag("--no-fallback", o->no_fallback, "Do not try other attempts/methods when the recipe's map fails");
   add_enum_option(sub, "--off-recipe", o->off_recipe, kOffRecipePolicyNames,
                   "Policy for maps made by another method than --method (a fallback): refuse (the mesh is lost in "
@@ -156,6 +166,8 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.map.method = o->method;
     recipe.map.fallback = !o->no_fallback;
     recipe.map.area_correction.method = area_correction_from_name(o->area_correction);
+    recipe.map.canonical.method = canonical_map_from_name(o->canonical);
+    recipe.sh.sampling = fit_sampling_from_name(o->sampling);
     recipe.sh.lmax = o->lmax;
     recipe.sh.weighting = o->weights;
     recipe.sh.solver = o->solver;

@@ -147,6 +147,17 @@ nlohmann::json area_distortion_json(const AreaDistortionFigures& f) {
           {"area_distortion", json_number(f.area_distortion)}};
 }
 
+nlohmann::json canonical_map_json(const CanonicalMapReport& r) {
+  return {{"method", to_string(r.method)},
+          {"stop", to_string(r.stop)},
+          {"converged", r.converged},
+          {"iterations", r.iterations},
+          {"halvings", r.halvings},
+          {"energy_start", json_number(r.energy_start)},
+          {"energy", json_number(r.energy)},
+          {"seconds", json_number(r.seconds)}};
+}
+
 nlohmann::json area_correction_json(const AreaCorrectionReport& r) {
   return {{"method", to_string(r.method)},
           {"stop", to_string(r.stop)},
@@ -167,6 +178,8 @@ nlohmann::json map_block_json(const SphericalMapResult& map, bool quality, bool 
                      {"seconds", json_number(map.seconds)}};
   // Only when an area-aware correction was asked for (the default conformal map has none).
   if (map.area_correction.method != AreaCorrection::None) out["area_correction"] = area_correction_json(map.area_correction);
+  // Only when the canonical map was asked for (issue 37): how the relaxation from the chain's map ended.
+  if (map.canonical.method != CanonicalMap::None) out["canonical"] = canonical_map_json(map.canonical);
   if (quality) {
     out["operator"] = map_operator_json(map.operator_stats);
     out["quality"] = map_quality_json(map.quality);

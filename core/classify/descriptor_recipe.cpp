@@ -33,13 +33,30 @@ RecipeConformance check_recipe(const DescriptorRecipe& recipe, const SphericalMa
   c.recipe_method = recipe.map.method;
   c.method_used = map.method_used;
   c.attempts = static_cast<int>(map.attempts.size());
-  c.match = map.method_used == recipe.map.method;
+  c.canonical = recipe.map.canonical.method;
+  c.canonical_stop = map.canonical.stop;
+  if (recipe.map.canonical.method != CanonicalMap::None)
+    // One definition for every map (issue 37): the descriptor is computed on the canonical map, whichever attempt
+    // of the chain gave its start; it matches when the relaxation reached that map (converged), whatever the path.
+    c.match = map.canonical.method == recipe.map.canonical.method && map.canonical.converged;
+  else
+    c.match = map.method_used == recipe.map.method;
   return c;
 }
 
 void enforce_recipe_policy(const DescriptorRecipe& recipe, const RecipeConformance& c, const std::string& model_name) {
   if (c.match || recipe.off_recipe == OffRecipePolicy::AcceptFlagged) return;
   const std::string used = to_string(c.method_used), wanted = to_string(c.recipe_method);
+  if (c.canonical != CanonicalMap::None)
+    throw WishError(ErrorCategory::Unmappable, "off_recipe",
+                    std::string("the canonical map was not reached (relaxation stopped: ") + to_string(c.canonical_stop) +
+                        ", start from the " + used + " map), and model '" + model_name +
+                        "' refuses descriptors of other maps (off_recipe: refuse)",
+                    {{"method_used", used},
+                     {"canonical", to_string(c.canonical)},
+                     {"canonical_stop", to_string(c.canonical_stop)},
+                     {"attempts", static_cast<std::int64_t>(c.attempts)},
+                     {"model", model_name}});
   throw WishError(ErrorCategory::Unmappable, "off_recipe",
                   "the spherical map was made by the " + used + " fallback, but model '" + model_name +
                       "' was trained on " + wanted + " maps and its policy refuses other methods (off_recipe: refuse)",

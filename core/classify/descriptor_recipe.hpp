@@ -39,9 +39,9 @@ OffRecipePolicy off_recipe_policy_from_name(const std::string& name);  // throws
 struct DescriptorRecipe {
   // Version of the recipe's content (fields and their meaning); stored in the model file next to the recipe.
   // Which version introduced which field is listed once, in descriptor_recipe_codec.hpp (1: the first; 2: the
-  // operator, flow budget and area correction; 3: the chain budget and cMCF's stall patience). Files of every
+  // operator, flow budget and area correction; 3: the chain budget and cMCF's stall patience; 5: the canonical map and the SH fit's sampling). Files of every
   // version up to kVersion load (model_file.cpp); a newer one is refused, as is any key this build does not know.
-  static constexpr int kVersion = 3;
+  static constexpr int kVersion = 5;
   // From this version on a file's version is computed from its fields (recipe_version_of) and its keys are exactly
   // that version's; older files may carry keys of later versions (written before the version table existed).
   static constexpr int kFirstComputedVersion = 3;
@@ -72,7 +72,11 @@ int model_steps(const DescriptorRecipe& recipe);
 
 // How one computed descriptor relates to a recipe.
 struct RecipeConformance {
-  bool match = true;                      // the map was made by the recipe's method
+  // The descriptor is the recipe's: for a canonical recipe, the canonical map was reached (whatever attempt gave its
+  // start); otherwise the map was made by the recipe's method.
+  bool match = true;
+  CanonicalMap canonical = CanonicalMap::None;             // the recipe's canonical map
+  CanonicalMapStop canonical_stop = CanonicalMapStop::NotRun;  // how this map's relaxation ended
   MapMethod recipe_method = MapMethod::Willmore;
   MapMethod method_used = MapMethod::Willmore;
   int attempts = 1;                       // attempts of the map chain (1: the first attempt gave the map)

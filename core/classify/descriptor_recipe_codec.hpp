@@ -10,6 +10,8 @@
 //      legacy value but without a bump), map.area_correction (the bump).
 //   3  map.chain_budget_seconds, map.linear_reserve_seconds, map.cmcf.stall_patience (added 2026-12-02 without a
 //      bump, so a version-2 build read such files with its own defaults; issue 27).
+//   5  map.canonical (the canonical map the descriptor is computed on, issue 37) and sh.sampling (vertex or surface
+//      samples of the SH fit).
 // Retired: map.min_fallback_flow_seconds (in version-2 files of 2026-12-02; 0 is what this build computes).
 //
 // The version a file gets (recipe_version_of): the highest version that introduced a field whose value differs
@@ -100,6 +102,19 @@ void visit_recipe(Visitor& v, Recipe& d) {
       a.field("max_halvings", o.max_halvings);
       a.field("budget_seconds", o.budget_seconds);
     }, d.map.area_correction, AreaCorrectionOptions{});
+    // The canonical map (canonical_map.hpp); older files computed the descriptor on the chain's own map.
+    m.added_group(5, "canonical", [&](Visitor& c) {
+      auto& o = d.map.canonical;
+      c.field("method", o.method);
+      c.field("energy", o.energy.kind);
+      c.field("area_weight", o.energy.area_weight);
+      c.field("mollify_delta", o.mollify_delta);
+      c.field("max_iterations", o.max_iterations);
+      c.field("tolerance", o.tolerance);
+      c.field("absolute_tolerance", o.absolute_tolerance);
+      c.field("max_halvings", o.max_halvings);
+      c.field("budget_seconds", o.budget_seconds);
+    }, d.map.canonical, CanonicalMapOptions{CanonicalMap::None});
   });
   v.group("sh", [&](Visitor& s) {
     s.field("lmax", d.sh.lmax);
@@ -108,6 +123,7 @@ void visit_recipe(Visitor& v, Recipe& d) {
     s.field("solver", d.sh.solver);
     s.field("band_size", d.sh.band_size);
     s.field("gram", d.sh.gram);
+    s.added(5, "sampling", d.sh.sampling, FitSampling::Vertices);  // older files fitted at the vertices
   });
   v.group("features", [&](Visitor& f) {
     f.field("family", d.features.family);

@@ -205,6 +205,11 @@ struct SettingsReader {
   }
   static OffRecipePolicy enum_from_name(const std::string& n, OffRecipePolicy) { return off_recipe_policy_from_name(n); }
   static AreaCorrection enum_from_name(const std::string& n, AreaCorrection) { return area_correction_from_name(n); }
+  static CanonicalMap enum_from_name(const std::string& n, CanonicalMap) { return canonical_map_from_name(n); }
+  static spherical::DistortionEnergyKind enum_from_name(const std::string& n, spherical::DistortionEnergyKind) {
+    return spherical::distortion_energy_from_name(n);
+  }
+  static FitSampling enum_from_name(const std::string& n, FitSampling) { return fit_sampling_from_name(n); }
   static geometry::LaplacianKind enum_from_name(const std::string& n, geometry::LaplacianKind) {
     return geometry::laplacian_kind_from_name(n.c_str());
   }

@@ -88,7 +88,8 @@ PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions
 
 PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptions base) {
   base.map = recipe.map;
-  base.map.prefer_method = recipe.off_recipe == OffRecipePolicy::Refuse;  // another method's map would be refused
+  // Another method's map would be refused, unless the canonical map is computed from whichever start.
+  base.map.prefer_method = recipe.off_recipe == OffRecipePolicy::Refuse && recipe.map.canonical.method == CanonicalMap::None;
   base.sh = recipe.sh;
   base.compute_global_features = base.compute_global_features || recipe.needs_global_features();
   return base;

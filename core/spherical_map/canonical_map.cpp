@@ -13,9 +13,31 @@
 #include <Eigen/SparseCore>
 
 #include "core/common/cpu_budget.hpp"
+#include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 #include "core/spherical_map/map_verification.hpp"
+
+namespace wish {
+
+inline constexpr EnumNames<CanonicalMap, 2> kCanonicalMapNames{{{
+    {CanonicalMap::None, "none"}, {CanonicalMap::Isometric, "isometric"}}}};
+inline constexpr EnumNames<CanonicalMapStop, 7> kCanonicalMapStopNames{{{
+    {CanonicalMapStop::NotRun, "not_run"},
+    {CanonicalMapStop::Converged, "converged"},
+    {CanonicalMapStop::IterationCap, "iteration_cap"},
+    {CanonicalMapStop::TimeBudget, "time_budget"},
+    {CanonicalMapStop::LineSearchFailed, "line_search_failed"},
+    {CanonicalMapStop::SolverFailed, "solver_failed"},
+    {CanonicalMapStop::Reverted, "reverted"}}}};
+
+const char* to_string(CanonicalMap method) { return kCanonicalMapNames.name(method); }
+CanonicalMap canonical_map_from_name(const std::string& name) {
+  return kCanonicalMapNames.parse(name, "canonical map", "canonical");
+}
+const char* to_string(CanonicalMapStop stop) { return kCanonicalMapStopNames.name(stop); }
+
+}  // namespace wish
 
 namespace wish::spherical {
 // Named, not anonymous: the area is compiled in unity batches (cmake/WishBuildSpeed.cmake), where file-local helpers

@@ -42,6 +42,9 @@ namespace wish {
 // 4) or the canonical map above, whatever attempt of the chain produced the start.
 enum class CanonicalMap { None, Isometric };
 
+const char* to_string(CanonicalMap method);                    // "none" | "isometric"
+CanonicalMap canonical_map_from_name(const std::string& name);  // throws InvalidInputError
+
 struct CanonicalMapOptions {
   CanonicalMap method = CanonicalMap::None;
   spherical::DistortionEnergy energy;  // symmetric Dirichlet by default
@@ -63,6 +66,8 @@ struct CanonicalMapOptions {
 // Why the relaxation stopped. NotRun: method None, or the chain's map was not Ok. Reverted: the result failed the
 // map's re-verification (not expected: every accepted step is bijective); the chain's map is kept.
 enum class CanonicalMapStop { NotRun, Converged, IterationCap, TimeBudget, LineSearchFailed, SolverFailed, Reverted };
+
+const char* to_string(CanonicalMapStop stop);  // "not_run", "converged", "iteration_cap", ...
 
 struct CanonicalMapReport {
   CanonicalMap method = CanonicalMap::None;
