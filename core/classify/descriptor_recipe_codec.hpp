@@ -114,7 +114,7 @@ void visit_recipe(Visitor& v, Recipe& d) {
       c.field("absolute_tolerance", o.absolute_tolerance);
       c.field("max_halvings", o.max_halvings);
       c.field("budget_seconds", o.budget_seconds);
-    }, d.map.canonical, CanonicalMapOptions{CanonicalMap::None});
+    }, d.map.canonical, CanonicalMapOptions{.method = CanonicalMap::None});
   });
   v.group("sh", [&](Visitor& s) {
     s.field("lmax", d.sh.lmax);

@@ -130,7 +130,7 @@ TEST(RecipeVersions, EveryKeyWrittenIsInTheTableAndEveryEntryIsWritten) {
 }
 
 // Sets every later field to its legacy value (the recipe of a version-1 build), or moves the k-th one away from it:
-// a number by +1, a switch flipped; in a group every number and switch (an enumeration stays: any of its values may
+// a number by +1, a switch flipped, an added enumeration to another value; in a group every number and switch (an enumeration stays: any of its values may
 // be the legacy one).
 struct Legacy {
   int k = -1;  // which added field to move away from its legacy value (-1: none)
@@ -163,6 +163,7 @@ struct Legacy {
 
   template <class T> static T moved(T v) {
     if constexpr (std::is_same_v<T, bool>) return !v;
+    else if constexpr (std::is_enum_v<T>) return static_cast<T>(static_cast<int>(v) == 0 ? 1 : 0);  // another value
     else return v + 1;
   }
 };
