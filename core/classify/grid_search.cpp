@@ -10,10 +10,10 @@
 #include <exception>
 #include <mutex>
 #include <thread>
-#include <ctime>
 
 #include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/svm_engine.hpp"
+#include "core/common/cpu_budget.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
@@ -51,6 +51,16 @@ void parallel_for(int n, int jobs, const std::function<void(int)>& f) {
   if (error) std::rethrow_exception(error);
 }
 
+bool EarlyStopRow::stop_after(double mean) {
+  if (first_ < 0) first_ = mean;
+  // Only a row that has risen above its first cell can have passed its peak; a flat start (every sample in one
+  // class's region, as at the tiny gammas) is not a plateau.
+  const bool risen = best_ > first_;
+  fallen_ = risen && mean <= best_ - drop_ ? fallen_ + 1 : 0;
+  best_ = std::max(best_, mean);
+  return fallen_ >= patience_;
+}
+
 namespace {
 
 Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
@@ -62,12 +72,6 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
 }  // namespace
 
 namespace {
-
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 struct CellStats {
   double mean = 0, std = 0;
@@ -100,7 +104,7 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
   }
   parallel_for(nc * ng, options.jobs, [&](int cell) {
     const int ci = cell / ng, gi = cell % ng;
-    const double cell_start = thread_cpu_seconds();
+    const double cell_start = CpuBudget::thread_cpu_seconds();
     SvmParams params;
     params.C = r.Cs[ci];
     params.gamma = r.gammas[gi];
@@ -120,7 +124,7 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
     r.mean_score(ci, gi) = st.mean;
     r.std_score(ci, gi) = st.std;
     r.capped_fits(ci, gi) = capped;
-    r.cell_cpu_seconds(ci, gi) = thread_cpu_seconds() - cell_start;
+    r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
   });
 }
 
@@ -145,15 +149,14 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
   parallel_for(ng, options.jobs, [&](int gi) {
     std::optional<PrecomputedKernel> kernel;
     if (options.precomputed_kernel) kernel.emplace(D, r.gammas[gi]);
-    double row_best = -1, row_first = std::numeric_limits<double>::quiet_NaN();
-    int fallen = 0;
+    EarlyStopRow rule(options.early_stop_drop, options.early_stop_patience);
     bool stopped = false;
     for (int ci : c_order) {
       if (stopped) {
         r.mean_score(ci, gi) = r.std_score(ci, gi) = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
-      const double cell_start = thread_cpu_seconds();
+      const double cell_start = CpuBudget::thread_cpu_seconds();
       SvmParams params;
       params.C = r.Cs[ci];
       params.gamma = r.gammas[gi];
@@ -179,15 +182,9 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
       r.mean_score(ci, gi) = st.mean;
       r.std_score(ci, gi) = st.std;
       r.capped_fits(ci, gi) = capped;
-      r.cell_cpu_seconds(ci, gi) = thread_cpu_seconds() - cell_start;
+      r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
       if (!options.early_stop) continue;
-      if (std::isnan(row_first)) row_first = st.mean;
-      // Only a row that has risen above its first cell can have passed its peak; a flat start (every sample in one
-      // class's region, as at the tiny gammas) is not a plateau.
-      const bool risen = row_best > row_first;
-      fallen = risen && st.mean <= row_best - options.early_stop_drop ? fallen + 1 : 0;
-      row_best = std::max(row_best, st.mean);
-      stopped = fallen >= options.early_stop_patience;
+      stopped = rule.stop_after(st.mean);
     }
   });
 }
@@ -227,6 +224,7 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
         r.best_gamma = gi;
       }
     }
+  r.search_rows = static_cast<int>(X.rows());
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

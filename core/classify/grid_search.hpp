@@ -22,6 +22,7 @@
 // Every fit that stops at libsvm's iteration cap (not converged) is counted per cell.
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -42,7 +43,14 @@ struct GridSearchOptions {
   int early_stop_patience = 1;
 };
 
+// One rung of a successive-halving search (successive_halving.hpp): its cells scored on `rows` training rows.
+struct HalvingRung {
+  int rows = 0, candidates = 0, splits = 0, fits = 0;
+  double seconds = 0;
+};
+
 struct GridSearchResult {
+  std::string method = "grid";            // "grid" (every cell on all rows, early stop) or "halving"
   std::vector<double> Cs, gammas;
   Eigen::MatrixXd mean_score, std_score;  // Cs.size() by gammas.size(); NaN where early stop skipped the cell
   Eigen::MatrixXi capped_fits;            // per cell: split fits with a solver stopped at libsvm's iteration cap
@@ -53,12 +61,30 @@ struct GridSearchResult {
   double early_stop_drop = 0;
   int early_stop_patience = 0;
   bool precomputed_kernel = false;
+  std::vector<HalvingRung> rungs;         // halving only: the schedule, first rung first
+  Eigen::MatrixXi cell_rung;              // halving only: per cell the last rung that scored it (its mean_score's)
+  int search_rows = 0;                    // training rows the best cell was scored on (all rows for "grid")
   int best_c = 0, best_gamma = 0;         // indices
   double best_score = 0;
   double seconds = 0;
   int total_capped_fits() const { return capped_fits.size() ? capped_fits.sum() : 0; }
   double C() const { return Cs[best_c]; }
   double gamma() const { return gammas[best_gamma]; }
+};
+
+// The early-stop rule above for one gamma row, fed the row's mean validation accuracies in ascending C (grid_search
+// and each rung of successive_halving.hpp).
+class EarlyStopRow {
+ public:
+  EarlyStopRow(double drop, int patience) : drop_(drop), patience_(patience) {}
+  // Records the next cell's mean accuracy; true when the row stops after it (its larger C are skipped).
+  bool stop_after(double mean);
+
+ private:
+  double drop_;
+  int patience_;
+  double first_ = -1, best_ = -1;
+  int fallen_ = 0;
 };
 
 // X: standardised features, one sample per row; y in 0..k-1; splits index rows of X.
