@@ -35,17 +35,18 @@ double beta_fraction(double a, double b, double x) {
   return h;
 }
 
-double incomplete_beta(double a, double b, double x) {
+// I_x(a, b) with y = 1 - x given separately, so that x close to 1 keeps its precision.
+double incomplete_beta(double a, double b, double x, double y) {
   if (x <= 0) return 0;
-  if (x >= 1) return 1;
-  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x));
-  return x < (a + 1) / (a + b + 2) ? front * beta_fraction(a, b, x) / a : 1 - front * beta_fraction(b, a, 1 - x) / b;
+  if (y <= 0) return 1;
+  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log(y));
+  return x < (a + 1) / (a + b + 2) ? front * beta_fraction(a, b, x) / a : 1 - front * beta_fraction(b, a, y) / b;
 }
 
-// P(T <= t) for Student's t with df degrees of freedom.
+// P(T <= t) for Student's t with df degrees of freedom: the tail is I_{v / (v + t^2)}(v / 2, 1 / 2) / 2.
 double student_t_cdf(double t, int df) {
-  const double v = df;
-  const double tail = 0.5 * incomplete_beta(v / 2, 0.5, v / (v + t * t));
+  const double v = df, t2 = t * t;
+  const double tail = 0.5 * incomplete_beta(v / 2, 0.5, v / (v + t2), t2 / (v + t2));
   return t >= 0 ? 1 - tail : tail;
 }
 
