@@ -9,8 +9,9 @@
 //                     [--full-grid-max N (search + fit + test, full grid, 3000)] [--grid-exhaustive-max N (0)]
 //                     [--sklearn-max N (GridSearchCV, 3000)] [--sklearn-halving-max N (HalvingGridSearchCV, 30000)]
 //                     [--sklearn-seconds S (scikit-learn wall limit per run, 3600)]
-//                     [--search auto|grid|halving] [--halving-rows N] [--halving-above N] [--single-repeat-above N]
+//                     [--search auto|grid|halving] [--halving-rows N] [--halving-above N]
 //                     [--two-class N [--classes A,B]] [--spread S] [--csv REAL.csv ...] [--patience P]
+//   train_scale_bench --sizes 10000 [--two-class 1758] --save-sets DIR: write the sets as descriptor CSVs (for `wish train`)
 //   train_scale_bench --sizes 1000 --profile FAMILY [--profile-exhaustive]: per cell CPU seconds and score of one grid
 // Descriptor sets: drawn from the synthetic demo set's descriptors (data/models/demo-descriptors.csv): per class a
 // Gaussian fitted to [log xi(1..10), global descriptors] (covariance shrunk 20 % to its diagonal), widened by
@@ -271,6 +272,7 @@ int main(int argc, char** argv) {
   int jobs = 2, whole_max = 30000, paper_whole_max = 0, exhaustive_max = 0, full_grid_max = 3000, grid_exhaustive_max = 0;
   int sklearn_max = 3000, sklearn_halving_max = 30000, sklearn_seconds = 3600, two_class = 0;
   std::string two_classes = "astrocyte,endothelium";
+  std::string save_sets;  // a directory: each generated set written as a descriptor CSV (for `wish train` itself)
   double spread = 1.5;
   std::string profile_family;
   int patience = 0;  // 0: the default of GridSearchOptions
@@ -294,8 +296,8 @@ int main(int argc, char** argv) {
     else if (a == "--search") g_scale.search = search_method_from_name(next());
     else if (a == "--halving-rows") g_scale.halving.max_rows = std::stoi(next());
     else if (a == "--halving-above") g_scale.halving_above_rows = std::stoi(next());
-    else if (a == "--single-repeat-above") g_scale.single_repeat_above = std::stoi(next());
     else if (a == "--two-class") two_class = std::stoi(next());
+    else if (a == "--save-sets") save_sets = next();
     else if (a == "--classes") two_classes = next();
     else if (a == "--spread") spread = std::stod(next());
     else if (a == "--csv") real_csvs.push_back(next());
@@ -306,8 +308,8 @@ int main(int argc, char** argv) {
       std::cerr << "usage: train_scale_bench [--sizes 1000,3000,10000,30000] [--jobs J] [--whole-max N] "
                    "[--paper-whole-max N] [--exhaustive-max N] [--full-grid-max N] [--grid-exhaustive-max N] "
                    "[--sklearn-max N] [--sklearn-halving-max N] [--sklearn-seconds S] [--search auto|grid|halving] "
-                   "[--halving-rows N] [--halving-above N] [--single-repeat-above N] [--two-class N [--classes A,B]] "
-                   "[--spread S] [--csv REAL.csv ...] [--patience P] [--profile FAMILY [--profile-exhaustive]]\n";
+                   "[--halving-rows N] [--halving-above N] [--two-class N [--classes A,B]] "
+                   "[--spread S] [--csv REAL.csv ...] [--patience P] [--profile FAMILY [--profile-exhaustive]] [--save-sets DIR]\n";
       return 2;
     }
   }
@@ -327,6 +329,15 @@ int main(int argc, char** argv) {
     sets.push_back({"two-class", generate(pair, two_class, spread, 2000 + static_cast<std::uint64_t>(two_class))});
   }
   for (const auto& p : real_csvs) sets.push_back({fs::path(p).filename().string(), read_descriptor_table(read_text(p)).samples});
+  if (!save_sets.empty()) {
+    fs::create_directories(save_sets);
+    for (const auto& set : sets) {
+      const fs::path out = fs::path(save_sets) / (set.name + "-" + std::to_string(set.samples.size()) + ".csv");
+      std::ofstream(out) << write_descriptor_table(set.samples);
+      std::printf("wrote %s\n", out.c_str());
+    }
+    return 0;
+  }
   if (!profile_family.empty()) {
     for (const auto& set : sets) {
       TrainOptions t = default_options(jobs);

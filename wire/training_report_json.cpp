@@ -80,7 +80,7 @@ nlohmann::json training_report_json(const TrainingReport& r) {
        {{"folds", r.nested.scores.size()}, {"scores", r.nested.scores}, {"mean", r.nested.mean}, {"std", r.nested.std},
         {"chosen", chosen}, {"seconds", r.seconds_nested}, {"fits", r.nested.fits},
         {"capped_fits", r.nested.capped_fits}, {"cells_skipped", r.nested.cells_skipped},
-        {"repeats", r.nested.repeats}, {"outer_folds", r.nested.outer_folds}, {"reason", r.nested_reason},
+        {"repeats", r.nested.repeats}, {"outer_folds", r.nested.outer_folds},
         {"interval95", r.nested.interval95 ? json::array({r.nested.interval95->low, r.nested.interval95->high}) : json()}}},
       {"seconds", r.seconds_total}};
   if (!r.grid.rungs.empty()) {

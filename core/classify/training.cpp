@@ -227,11 +227,9 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   const StandardScaler scaler = StandardScaler::fit(X_train);
   const Eigen::MatrixXd Xs_train = scaler.transform(X_train), Xs_test = scaler.transform(X_test);
 
-  const TrainingPlan plan = plan_training(static_cast<int>(y.size()), static_cast<int>(y_train.size()),
-                                         options.nested_repeats, options.scale);
-  rep.search_reason = plan.search_reason;
-  rep.nested_reason = plan.nested_reason;
-  say("search: " + plan.search_reason);
+  const SearchPlan plan = plan_search(static_cast<int>(y_train.size()), options.scale);
+  rep.search_reason = plan.reason;
+  say("search: " + plan.reason);
   say("grid search: " + std::to_string(options.grid.Cs.size()) + " x " + std::to_string(options.grid.gammas.size()) +
       " cells x " + std::to_string(options.grid_splits) + " splits on " + std::to_string(y_train.size()) + " samples");
   rep.grid = search(Xs_train, y_train, plan.search, options.grid_splits, options.grid_validation_fraction, seed_grid,
@@ -261,10 +259,10 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
 
   // Nested, repeated stratified CV: the whole selection procedure (scaler + grid search) inside each outer fold.
   const auto nested_start = std::chrono::steady_clock::now();
-  if (plan.nested_repeats > 0) {
+  if (options.nested_repeats > 0) {
     NestedCvOptions nested;
     nested.outer_folds = options.nested_outer_folds;
-    nested.repeats = plan.nested_repeats;
+    nested.repeats = options.nested_repeats;
     nested.search = plan.search;
     nested.halving = options.scale.halving;
     nested.inner_splits = options.nested_inner_splits;

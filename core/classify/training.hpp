@@ -32,7 +32,7 @@ struct TrainOptions {
   std::string version = "1";
   DescriptorRecipe recipe;         // recorded in the model: how the features were computed (recipe.features: the pipeline)
   GridSearchOptions grid;          // C, gamma grid and jobs
-  ScalePolicy scale;               // which search and how many nested-CV repeats at which size (search_plan.hpp)
+  ScalePolicy scale;               // which search at which size (search_plan.hpp)
   int grid_splits = 10;            // StratifiedShuffleSplit n_splits (scikit-learn's default)
   double grid_validation_fraction = 0.2;
   double test_fraction = 0.2;      // the paper's stratified hold-out
@@ -79,7 +79,6 @@ struct TrainingReport {
   std::vector<int> train_indices, test_indices;  // into the samples given
   GridSearchResult grid;                         // grid.method: the search that ran ("grid" or "halving")
   std::string search_reason;                     // why that search (search_plan.hpp)
-  std::string nested_reason;                     // why that many nested-CV repeats
   double train_accuracy = 0;
   int final_fit_cap_warnings = 0;                // the shipped model's fit: solvers stopped at libsvm's iteration cap
   ClassificationMetrics test;                    // on the hold-out split

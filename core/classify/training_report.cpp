@@ -94,7 +94,6 @@ std::string training_report_table(const TrainingReport& r) {
     if (r.nested.interval95)
       o << "; 95 % interval " << fmt("%.3f", r.nested.interval95->low) << "-" << fmt("%.3f", r.nested.interval95->high);
     o << ")";
-    if (!r.nested_reason.empty()) o << "\nnested CV: " << r.nested_reason;
   }
   o << "\n\n";
   if (!r.losses.empty()) o << "meshes per class (lost: refused or failed, by error code; flagged: off-recipe maps kept)\n"

@@ -17,6 +17,7 @@
 #include "core/classify/standard_scaler.hpp"
 #include "core/classify/successive_halving.hpp"
 #include "core/classify/training.hpp"
+#include "core/classify/training_report.hpp"
 #include "tests/classify/classify_test_data.hpp"
 
 namespace wish {
@@ -158,21 +159,16 @@ TEST(SuccessiveHalving, SameAnswerOnAnyThreadCountAndKernel) {
   }
 }
 
-TEST(SearchPlan, PicksThePathItsThresholdsSay) {
+TEST(SearchPlan, PicksThePathItsThresholdSays) {
   ScalePolicy p;
   p.halving_above_rows = 1000;
-  p.single_repeat_above = 2000;
-  EXPECT_EQ(plan_training(1250, 1000, 2, p).search, SearchMethod::Grid);
-  EXPECT_EQ(plan_training(1252, 1001, 2, p).search, SearchMethod::Halving);
-  EXPECT_NE(plan_training(1252, 1001, 2, p).search_reason.find("1001 training rows > 1000"), std::string::npos);
-  EXPECT_EQ(plan_training(2000, 1600, 2, p).nested_repeats, 2);
-  EXPECT_EQ(plan_training(2001, 1601, 2, p).nested_repeats, 1);
-  EXPECT_EQ(plan_training(2001, 1601, 0, p).nested_repeats, 0);
-  p.search = SearchMethod::Grid;  // asked for: the paper's protocol at any size
-  EXPECT_EQ(plan_training(50000, 40000, 2, p).search, SearchMethod::Grid);
-  EXPECT_EQ(plan_training(50000, 40000, 2, p).nested_repeats, 2);
+  EXPECT_EQ(plan_search(1000, p).search, SearchMethod::Grid);
+  EXPECT_EQ(plan_search(1001, p).search, SearchMethod::Halving);
+  EXPECT_NE(plan_search(1001, p).reason.find("1001 training rows > 1000"), std::string::npos);
+  p.search = SearchMethod::Grid;  // asked for: the paper's search at any size
+  EXPECT_EQ(plan_search(40000, p).search, SearchMethod::Grid);
   p.search = SearchMethod::Halving;
-  EXPECT_EQ(plan_training(100, 80, 2, p).search, SearchMethod::Halving);
+  EXPECT_EQ(plan_search(80, p).search, SearchMethod::Halving);
   EXPECT_EQ(search_method_from_name("halving"), SearchMethod::Halving);
   EXPECT_THROW(search_method_from_name("random"), InvalidInputError);
 }
@@ -206,26 +202,23 @@ TEST(CvInterval, CorrectedResampledT) {
   EXPECT_LE(cv_interval({0.99, 1.0, 0.97, 1.0}, 0.33)->high, 1.0);
 }
 
-TEST(Training, HalvingPathIsReportedAndTheModelSeesEveryTrainingRow) {
+TEST(Training, HalvingPathIsReportedAndReproducible) {
   const auto samples = testing::synthetic_samples(3, 40, 34);
   auto opts = testing::quick_train_options(11);
   opts.scale.search = SearchMethod::Auto;
   opts.scale.halving_above_rows = 50;  // 96 training rows: halving
   opts.scale.halving.max_rows = 60;
   opts.scale.halving.min_rows = 20;
-  opts.scale.single_repeat_above = 100;
   opts.nested_repeats = 2;
   const auto r = train_classifier(samples, opts);
   EXPECT_EQ(r.report.grid.method, "halving");
   EXPECT_NE(r.report.search_reason.find("successive halving"), std::string::npos) << r.report.search_reason;
   EXPECT_EQ(r.report.grid.search_rows, 60);
-  EXPECT_EQ(r.report.nested.repeats, 1) << "120 samples > 100: one repeat";
-  EXPECT_EQ(r.report.nested.scores.size(), 3u);
+  EXPECT_EQ(r.report.nested.repeats, 2);
+  EXPECT_EQ(r.report.nested.scores.size(), 6u);  // 2 repeats x 3 folds, each inner search halving on 80 rows
   EXPECT_TRUE(r.report.nested.interval95.has_value());
-  EXPECT_NE(r.report.nested_reason.find("one repeat"), std::string::npos);
   EXPECT_EQ(r.model.training_summary().samples, 120);
-  // The final fit is on all 96 training rows, not the search's 60: its train accuracy counts all of them.
-  EXPECT_EQ(r.report.train_indices.size(), 96u);
+  EXPECT_NE(training_report_table(r.report).find("halving rungs"), std::string::npos);
   const auto again = train_classifier(samples, opts);
   EXPECT_EQ(again.model.to_json_text(), r.model.to_json_text());
   EXPECT_EQ(again.report.nested.scores, r.report.nested.scores);
