@@ -10,14 +10,14 @@
 //                     [--sklearn-max N (GridSearchCV, 3000)] [--sklearn-halving-max N (HalvingGridSearchCV, 30000)]
 //                     [--sklearn-seconds S (scikit-learn wall limit per run, 3600)]
 //                     [--search auto|grid|halving] [--halving-rows N] [--halving-above N]
-//                     [--two-class N [--classes A,B]] [--spread S] [--csv REAL.csv ...] [--patience P]
+//                     [--two-class N [--classes A,B] [--two-class-spread S]] [--spread S] [--csv REAL.csv ...] [--patience P]
 //   train_scale_bench --sizes 10000 [--two-class 1758] --save-sets DIR: write the sets as descriptor CSVs (for `wish train`)
 //   train_scale_bench --sizes 1000 --profile FAMILY [--profile-exhaustive]: per cell CPU seconds and score of one grid
 // Descriptor sets: drawn from the synthetic demo set's descriptors (data/models/demo-descriptors.csv): per class a
 // Gaussian fitted to [log xi(1..10), global descriptors] (covariance shrunk 20 % to its diagonal), widened by
 // --spread (default 1.5: the classes overlap more than in the demo set, as real ones do). --two-class N adds a set of
-// N rows of two classes (--classes, default astrocyte,endothelium): the stand-in for issue 40's 1,758 CT organ masks
-// of two classes. --csv adds real labelled descriptor tables (e.g. `wish describe --csv` of UroCell meshes with a
+// N rows of two classes (--classes, default astrocyte,endothelium; widened by --two-class-spread, default 3, so that
+// they overlap as hard classes do): the stand-in for issue 40's 1,758 CT organ masks of two classes. --csv adds real labelled descriptor tables (e.g. `wish describe --csv` of UroCell meshes with a
 // label column) as extra rows.
 #include <chrono>
 #include <cstdio>
@@ -273,7 +273,7 @@ int main(int argc, char** argv) {
   int sklearn_max = 3000, sklearn_halving_max = 30000, sklearn_seconds = 3600, two_class = 0;
   std::string two_classes = "astrocyte,endothelium";
   std::string save_sets;  // a directory: each generated set written as a descriptor CSV (for `wish train` itself)
-  double spread = 1.5;
+  double spread = 1.5, two_class_spread = 3.0;
   std::string profile_family;
   int patience = 0;  // 0: the default of GridSearchOptions
   bool profile_exhaustive = false;
@@ -299,6 +299,7 @@ int main(int argc, char** argv) {
     else if (a == "--two-class") two_class = std::stoi(next());
     else if (a == "--save-sets") save_sets = next();
     else if (a == "--classes") two_classes = next();
+    else if (a == "--two-class-spread") two_class_spread = std::stod(next());
     else if (a == "--spread") spread = std::stod(next());
     else if (a == "--csv") real_csvs.push_back(next());
     else if (a == "--profile") profile_family = next();
@@ -308,7 +309,7 @@ int main(int argc, char** argv) {
       std::cerr << "usage: train_scale_bench [--sizes 1000,3000,10000,30000] [--jobs J] [--whole-max N] "
                    "[--paper-whole-max N] [--exhaustive-max N] [--full-grid-max N] [--grid-exhaustive-max N] "
                    "[--sklearn-max N] [--sklearn-halving-max N] [--sklearn-seconds S] [--search auto|grid|halving] "
-                   "[--halving-rows N] [--halving-above N] [--two-class N [--classes A,B]] "
+                   "[--halving-rows N] [--halving-above N] [--two-class N [--classes A,B] [--two-class-spread S]] "
                    "[--spread S] [--csv REAL.csv ...] [--patience P] [--profile FAMILY [--profile-exhaustive]] [--save-sets DIR]\n";
       return 2;
     }
@@ -326,7 +327,7 @@ int main(int argc, char** argv) {
     std::vector<TrainingSample> pair;
     for (const auto& s : templ)
       if (("," + two_classes + ",").find("," + s.label + ",") != std::string::npos) pair.push_back(s);
-    sets.push_back({"two-class", generate(pair, two_class, spread, 2000 + static_cast<std::uint64_t>(two_class))});
+    sets.push_back({"two-class", generate(pair, two_class, two_class_spread, 2000 + static_cast<std::uint64_t>(two_class))});
   }
   for (const auto& p : real_csvs) sets.push_back({fs::path(p).filename().string(), read_descriptor_table(read_text(p)).samples});
   if (!save_sets.empty()) {

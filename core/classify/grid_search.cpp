@@ -71,6 +71,28 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
 
 }  // namespace
 
+SplitMatrices::SplitMatrices(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits) {
+  for (const Split& s : splits) {
+    train_x.push_back(rows_of(X, s.train));
+    test_x.push_back(rows_of(X, s.test));
+    std::vector<int> a;
+    for (int i : s.train) a.push_back(y[i]);
+    train_y.push_back(std::move(a));
+  }
+}
+
+PrecomputedKernel::FitScore fit_split(const PrecomputedKernel* kernel, const SplitMatrices& rows,
+                                      const std::vector<Split>& splits, std::size_t s, const std::vector<int>& y,
+                                      const SvmParams& params) {
+  const Split& split = splits[s];
+  if (kernel) return kernel->fit_and_score(split.train, split.test, y, params);
+  PrecomputedKernel::FitScore score;
+  const SvmEngine svm = SvmEngine::train(rows.train_x[s], rows.train_y[s], params, 0, &score.iteration_cap_warnings);
+  for (std::size_t i = 0; i < split.test.size(); ++i)
+    score.correct += svm.predict_label(rows.test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
+  return score;
+}
+
 namespace {
 
 struct CellStats {
@@ -91,17 +113,7 @@ CellStats stats_of(const std::vector<double>& scores) {
 void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
                           const GridSearchOptions& options, GridSearchResult& r) {
   const int nc = static_cast<int>(r.Cs.size()), ng = static_cast<int>(r.gammas.size());
-  std::vector<Eigen::MatrixXd> train_x, test_x;
-  std::vector<std::vector<int>> train_y, test_y;
-  for (const Split& s : splits) {
-    train_x.push_back(rows_of(X, s.train));
-    test_x.push_back(rows_of(X, s.test));
-    std::vector<int> a, b;
-    for (int i : s.train) a.push_back(y[i]);
-    for (int i : s.test) b.push_back(y[i]);
-    train_y.push_back(std::move(a));
-    test_y.push_back(std::move(b));
-  }
+  const SplitMatrices rows(X, y, splits);
   parallel_for(nc * ng, options.jobs, [&](int cell) {
     const int ci = cell / ng, gi = cell % ng;
     const double cell_start = CpuBudget::thread_cpu_seconds();
@@ -112,13 +124,9 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
     std::vector<double> scores;
     int capped = 0;
     for (std::size_t s = 0; s < splits.size(); ++s) {
-      int warnings = 0;
-      const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
-      capped += warnings > 0;
-      std::size_t correct = 0;
-      for (Eigen::Index i = 0; i < test_x[s].rows(); ++i)
-        correct += svm.predict_label(test_x[s].row(i).transpose()) == test_y[s][static_cast<std::size_t>(i)];
-      scores.push_back(static_cast<double>(correct) / static_cast<double>(test_x[s].rows()));
+      const auto fit = fit_split(nullptr, rows, splits, s, y, params);
+      capped += fit.iteration_cap_warnings > 0;
+      scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
     }
     const CellStats st = stats_of(scores);
     r.mean_score(ci, gi) = st.mean;
@@ -136,16 +144,7 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
   std::iota(c_order.begin(), c_order.end(), 0);
   std::stable_sort(c_order.begin(), c_order.end(), [&](int a, int b) { return r.Cs[a] < r.Cs[b]; });
   const Eigen::MatrixXd D = options.precomputed_kernel ? pairwise_squared_distances(X) : Eigen::MatrixXd();
-  std::vector<Eigen::MatrixXd> train_x, test_x;
-  std::vector<std::vector<int>> train_y;
-  if (!options.precomputed_kernel)
-    for (const Split& s : splits) {
-      train_x.push_back(rows_of(X, s.train));
-      test_x.push_back(rows_of(X, s.test));
-      std::vector<int> a;
-      for (int i : s.train) a.push_back(y[i]);
-      train_y.push_back(std::move(a));
-    }
+  const SplitMatrices rows = options.precomputed_kernel ? SplitMatrices() : SplitMatrices(X, y, splits);
   parallel_for(ng, options.jobs, [&](int gi) {
     std::optional<PrecomputedKernel> kernel;
     if (options.precomputed_kernel) kernel.emplace(D, r.gammas[gi]);
@@ -164,19 +163,9 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
       std::vector<double> scores;
       int capped = 0;
       for (std::size_t s = 0; s < splits.size(); ++s) {
-        const Split& split = splits[s];
-        int correct = 0, warnings = 0;
-        if (kernel) {
-          const auto fit = kernel->fit_and_score(split.train, split.test, y, params);
-          correct = fit.correct;
-          warnings = fit.iteration_cap_warnings;
-        } else {
-          const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
-          for (std::size_t i = 0; i < split.test.size(); ++i)
-            correct += svm.predict_label(test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
-        }
-        capped += warnings > 0;
-        scores.push_back(static_cast<double>(correct) / static_cast<double>(split.test.size()));
+        const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, s, y, params);
+        capped += fit.iteration_cap_warnings > 0;
+        scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
       }
       const CellStats st = stats_of(scores);
       r.mean_score(ci, gi) = st.mean;

@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/splits.hpp"
 
 namespace wish {
@@ -86,6 +87,20 @@ class EarlyStopRow {
   double first_ = -1, best_ = -1;
   int fallen_ = 0;
 };
+
+// The rows of each split as matrices, for fits with libsvm's own RBF kernel.
+struct SplitMatrices {
+  std::vector<Eigen::MatrixXd> train_x, test_x;
+  std::vector<std::vector<int>> train_y;
+  SplitMatrices() = default;
+  SplitMatrices(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits);
+};
+
+// One fit of a cell (params, no probabilities) on splits[s], scored by votes on its test rows: on the precomputed
+// `kernel` (over the rows y indexes) when there is one, else with libsvm's RBF kernel on `rows`.
+PrecomputedKernel::FitScore fit_split(const PrecomputedKernel* kernel, const SplitMatrices& rows,
+                                      const std::vector<Split>& splits, std::size_t s, const std::vector<int>& y,
+                                      const SvmParams& params);
 
 // X: standardised features, one sample per row; y in 0..k-1; splits index rows of X.
 GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,

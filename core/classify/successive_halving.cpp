@@ -66,21 +66,7 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
   }
   const bool precomputed = grid.precomputed_kernel && m <= options.max_precomputed_rows;
   const Eigen::MatrixXd D = precomputed ? pairwise_squared_distances(Xr) : Eigen::MatrixXd();
-  std::vector<Eigen::MatrixXd> train_x, test_x;
-  std::vector<std::vector<int>> train_y;
-  if (!precomputed)
-    for (const Split& s : splits) {
-      Eigen::MatrixXd a(static_cast<Eigen::Index>(s.train.size()), X.cols()), b(static_cast<Eigen::Index>(s.test.size()), X.cols());
-      std::vector<int> ya;
-      for (std::size_t i = 0; i < s.train.size(); ++i) {
-        a.row(static_cast<Eigen::Index>(i)) = Xr.row(s.train[i]);
-        ya.push_back(yr[s.train[i]]);
-      }
-      for (std::size_t i = 0; i < s.test.size(); ++i) b.row(static_cast<Eigen::Index>(i)) = Xr.row(s.test[i]);
-      train_x.push_back(std::move(a));
-      test_x.push_back(std::move(b));
-      train_y.push_back(std::move(ya));
-    }
+  const SplitMatrices rows = precomputed ? SplitMatrices() : SplitMatrices(Xr, yr, splits);
   std::map<int, std::vector<int>> by_gamma;  // gamma index -> positions in `cells`, C ascending
   for (std::size_t p = 0; p < cells.size(); ++p) by_gamma[cells[p] % ng].push_back(static_cast<int>(p));
   std::vector<CellScore> out(cells.size());
@@ -104,19 +90,9 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
         params.C = r.Cs[cells[p] / ng];
         params.gamma = r.gammas[gi];
         params.probability = false;  // accuracy needs votes only; no rand(), so fits run concurrently
-        const Split& split = splits[s];
-        int correct = 0, warnings = 0;
-        if (kernel) {
-          const auto fit = kernel->fit_and_score(split.train, split.test, yr, params);
-          correct = fit.correct;
-          warnings = fit.iteration_cap_warnings;
-        } else {
-          const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
-          for (std::size_t i = 0; i < split.test.size(); ++i)
-            correct += svm.predict_label(test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == yr[split.test[i]];
-        }
-        accuracy[s] = static_cast<double>(correct) / static_cast<double>(split.test.size());
-        capped[s] = warnings > 0;
+        const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, static_cast<std::size_t>(s), yr, params);
+        accuracy[s] = static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size());
+        capped[s] = fit.iteration_cap_warnings > 0;
         cpu[s] = CpuBudget::thread_cpu_seconds() - start;
       });
       CellScore& c = out[p];
