@@ -62,6 +62,7 @@ struct TrainCliOptions {
   ScaleNormalization scale = ScaleNormalization::None;
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   bool early_stop = true;
+  SearchMethod search = SearchMethod::Auto;
   double novelty_quantile = 0.99;
   int novelty_folds = 0;
   std::uint64_t seed = 42;
@@ -131,6 +132,9 @@ CommandRunner setup_train(CLI::App& sub) {
                "Grid search: stop a gamma row, C ascending, at the first C past its peak (once the row has risen, "
                "a C whose mean validation accuracy is not above the row's best; default on; --no-early-stop: every "
                "cell)");
+  add_enum_option(sub, "--search", o->search, kSearchMethodNames,
+                  "auto: the full grid up to " + std::to_string(ScalePolicy{}.halving_above_rows) +
+                      " training rows, successive halving above (see below); grid / halving: that search at any size");
   sub.add_option("--novelty-quantile", o->novelty_quantile,
                  "The model's default novelty threshold: per class, this quantile of the class's leave-one-out (or "
                  "--novelty-folds cross-validated) k-NN distances (a prediction above every class's says novel: true; predict/serve may override)")
@@ -150,7 +154,8 @@ CommandRunner setup_train(CLI::App& sub) {
       "nu 1e-1, Lmax 10, log on. `wish describe` defaults to willmore, nu 1e-5, Lmax 15 instead (the paper's map\n"
       "and the SH fit's own settings: the closest fit and reconstruction); the smoother xi of nu 1e-1 classify\n"
       "better (nested CV on UroCell 95.2 % against 93.1 % at nu 1e-5, cMCF 93.1-95.2 % against Willmore's\n"
-      "89.4-92.6 %, Lmax 15 gains at most 0.3 points over 10). A model records its recipe: classify uses it.");
+      "89.4-92.6 %, Lmax 15 gains at most 0.3 points over 10). A model records its recipe: classify uses it.\n"
+      "\n" + training_scale_help(ScalePolicy{}));
   return [o]() {
     DescriptorRecipe recipe;
     recipe.map.method = o->method;
@@ -239,6 +244,7 @@ CommandRunner setup_train(CLI::App& sub) {
     t.grid.gammas = decade_grid(o->gamma_range[0], o->gamma_range[1]);
     t.grid.jobs = o->jobs;
     t.grid.early_stop = o->early_stop;
+    t.scale.search = o->search;
     t.novelty_quantile = o->novelty_quantile;
     t.novelty_folds = o->novelty_folds;
     t.grid_splits = o->grid_splits;
