@@ -3,6 +3,7 @@
 // train): voxel size and unit, object rule and filters, surface settings and limits.
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -80,9 +81,9 @@ inline VolumeOptions to_volume_options(const VolumeCliOptions& o) {
   v.objects.threshold = o.threshold;
   v.surface.target_vertices = o.target_vertices;
   v.surface.smoothing_iterations = o.smoothing_iterations;
-  v.surface.close_handles = o.close_handles;
   v.surface.max_box_voxels = o.max_object_box_voxels;
-  if (o.no_close_handles) v.surface.default_closing_share = 0;
+  if (o.no_close_handles) v.surface.max_repair_share = 0;
+  if (o.close_handles) v.surface.max_repair_share = std::numeric_limits<double>::infinity();
   return v;
 }
 
