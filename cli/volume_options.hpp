@@ -20,7 +20,7 @@ struct VolumeCliOptions {
   std::vector<double> spacing;   // x, y, z
   std::string unit;
   std::string objects = "auto";
-  std::int64_t min_voxels = 0;
+  std::optional<std::int64_t> min_voxels;
   bool drop_truncated = false;
   std::vector<std::uint32_t> label_ids;
   std::int64_t target_vertices = 10'000;
@@ -43,7 +43,9 @@ inline void add_volume_options(CLI::App& sub, VolumeCliOptions& o) {
   sub.add_option("--threshold", o.threshold,
                  "Foreground is value >= T, then 6-connected components (default: half the maximum of a mask with "
                  "soft edges or a probability map, which auto recognises; a probability map's T is in [0, 1])");
-  sub.add_option("--min-voxels", o.min_voxels, "Drop objects with fewer voxels")->capture_default_str();
+  sub.add_option("--min-voxels", o.min_voxels,
+                 "Drop objects with fewer voxels (default: drop specks, objects under 8 voxels or 0.5 % of the "
+                 "volume's typical object; 0 keeps every object)");
   sub.add_flag("--drop-truncated", o.drop_truncated, "Drop objects touching the volume border (else flagged truncated)");
   sub.add_option("--label-ids", o.label_ids, "Only these label ids (comma-separated)")->delimiter(',');
   sub.add_option("--target-vertices", o.target_vertices, "Decimate each surface to about this many vertices (0: keep all)")

@@ -25,7 +25,7 @@ struct VolumeParams {
   std::optional<std::array<double, 3>> spacing;  // ?spacing=x,y,z: voxel size, overrides the file's; each > 0
   std::optional<std::string> unit;               // ?unit=nm
   std::string objects = "auto";                  // ?objects=auto|labels|components
-  std::int64_t min_voxels = 0;                   // ?min_voxels=N: smaller objects are dropped
+  std::optional<std::int64_t> min_voxels;        // ?min_voxels=N: smaller objects are dropped (absent: specks)
   bool drop_truncated = false;                   // ?drop_truncated=true: drop objects touching the border
   std::vector<std::uint32_t> labels;             // ?labels=3,7,12: only these label ids (empty: all)
   std::optional<double> threshold;               // ?threshold=T: foreground is value >= T (auto / components)

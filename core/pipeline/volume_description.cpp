@@ -9,6 +9,8 @@ namespace {
 SurfaceFigures figures_of(const volume::ObjectSurface& s) {
   SurfaceFigures f;
   f.genus = s.genus;
+  f.repair = s.repair;
+  f.repaired = s.repaired;
   f.repairs = s.repairs;
   f.vertices = s.mesh.vertex_count();
   f.faces = s.mesh.face_count();
@@ -36,11 +38,12 @@ WishError no_objects_error(const VolumeSummary& s) {
   const std::string why = s.found == 0 ? "every voxel is background (0)"
                                        : std::to_string(s.found) + " found, dropped: " +
                                              std::to_string(s.dropped_not_selected) + " not in labels, " +
+                                             std::to_string(s.dropped_specks) + " specks (min_voxels overrides), " +
                                              std::to_string(s.dropped_small) + " under min_voxels, " +
                                              std::to_string(s.dropped_truncated) + " truncated (drop_truncated)";
   return WishError(ErrorCategory::Unmappable, "no_objects", "the label volume has no object to describe: " + why,
                    {{"objects_found", s.found}, {"not_selected", s.dropped_not_selected},
-                    {"small", s.dropped_small}, {"truncated", s.dropped_truncated}});
+                    {"specks", s.dropped_specks}, {"small", s.dropped_small}, {"truncated", s.dropped_truncated}});
 }
 
 VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& options, const ObjectWork& work,

@@ -28,7 +28,10 @@ struct VolumeSummary {
   std::vector<std::string> notes;
   volume::ObjectMode mode = volume::ObjectMode::Labels;
   volume::InputDecision input;  // kind of values, threshold and why (core/volume/input_kind.hpp)
-  std::int64_t found = 0, kept = 0, dropped_not_selected = 0, dropped_small = 0, dropped_truncated = 0;
+  std::int64_t found = 0, kept = 0, dropped_not_selected = 0, dropped_specks = 0, dropped_small = 0, dropped_truncated = 0;
+  std::int64_t fragments_merged = 0;                // mask components merged into an object as its fragments
+  volume::SpeckRule specks;                         // as applied (below 0: min_voxels was given)
+  std::vector<volume::DroppedObject> dropped;       // every object a filter dropped, with its reason, by id
   double read_seconds = 0, objects_seconds = 0;
 };
 

@@ -290,7 +290,12 @@ TEST(LabelObjects, MaskComponentsFiltersAndTruncation) {
   block(8, 10, 2, 4);   // 16 voxels, inside
   block(15, 20, 2, 6);  // 80 voxels, touches x = 19
   image.labels[image.index(7, 7, 7)] = 1;  // diagonal to nothing: its own component of 1 voxel
-  const ObjectSet all = find_objects(image);
+  const ObjectSet by_default = find_objects(image);  // the 1-voxel component is a speck
+  EXPECT_EQ(by_default.objects.size(), 3u);
+  EXPECT_EQ(by_default.dropped_specks, 1);
+  ObjectOptions every;
+  every.min_voxels = 0;
+  const ObjectSet all = find_objects(image, every);
   EXPECT_EQ(all.mode, ObjectMode::Components);
   ASSERT_EQ(all.objects.size(), 4u);
   EXPECT_EQ(all.objects[0].voxel_count, 64);
@@ -302,10 +307,10 @@ TEST(LabelObjects, MaskComponentsFiltersAndTruncation) {
   EXPECT_EQ(kept.objects.size(), 2u);
   EXPECT_EQ(kept.dropped_small, 1);
   EXPECT_EQ(kept.dropped_truncated, 1);
-  options = {};
+  options = every;
   options.label_ids = {1};
   EXPECT_EQ(find_objects(image, options).objects.size(), 1u);
-  options = {};
+  options = every;
   options.max_objects = 3;
   EXPECT_THROW(find_objects(image, options), LimitExceededError);
   // Forced label mode: the mask is one object (value 1) whatever its components.
