@@ -3,6 +3,7 @@
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/spherical_map/flow_step_cap.hpp"
+#include "core/pipeline/volume_overrides.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/api_response.hpp"
 #include "server/loaded_model.hpp"
@@ -109,24 +110,14 @@ void record_stages(const ComputeJob& job, const StageTimings& t, ComputeOutcome&
   if (job.op == Operation::Classify) out.stages["classify"] += t.classify;
 }
 
+// The service's limits, then the request's settings (the one mapping, core/pipeline/volume_overrides.hpp).
 VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) {
-  const VolumeParams& p = job.params.volume;
   VolumeOptions v;
   v.read.limits.max_bytes = config.max_upload_bytes;
   v.read.limits.max_voxels = config.max_volume_voxels;
-  if (p.spacing) v.read.spacing_override = Eigen::Vector3d((*p.spacing)[0], (*p.spacing)[1], (*p.spacing)[2]);
-  if (p.unit) v.read.unit_override = *p.unit;
-  v.read.zarr_labels = p.label_image;
-  v.read.zarr_level = p.level;
-  v.objects.mode = p.objects == "labels"       ? volume::ObjectMode::Labels
-                   : p.objects == "components" ? volume::ObjectMode::Components
-                                               : volume::ObjectMode::Auto;
-  v.objects.min_voxels = p.min_voxels;
-  v.objects.drop_truncated = p.drop_truncated;
-  v.objects.label_ids = p.labels;
-  v.objects.threshold = p.threshold;
   v.objects.max_objects = config.max_volume_objects;
   v.surface.max_box_voxels = config.max_object_box_voxels;
+  apply_overrides(job.params.volume, v);
   return v;
 }
 
@@ -220,11 +211,11 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
   out.stages["queue_wait"] = seconds_between(job.submitted, started);
   try {
     job.deadline.check("queue wait");  // expired while queued: do not start
-    if (!job.part.volume && !job.params.volume.given.empty())
+    if (!job.part.volume && !job.params.volume_given.empty())
       throw InvalidInputError("invalid_parameter",
-                              "parameter '" + job.params.volume.given.front() +
+                              "parameter '" + job.params.volume_given.front() +
                                   "' applies to label volumes (NIfTI-1, TIFF, OME-Zarr) only; this part is a mesh",
-                              {{"parameter", job.params.volume.given.front()}});
+                              {{"parameter", job.params.volume_given.front()}});
     if (job.part.volume) {
       run_volume(job, config, out);  // sets the status from the objects'
       out.stages["total"] = seconds_between(started, std::chrono::steady_clock::now());

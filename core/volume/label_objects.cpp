@@ -7,15 +7,6 @@
 
 namespace wish::volume {
 
-const char* to_string(ObjectMode mode) {
-  switch (mode) {
-    case ObjectMode::Auto: return "auto";
-    case ObjectMode::Labels: return "labels";
-    case ObjectMode::Components: return "components";
-  }
-  return "?";
-}
-
 const char* to_string(DropReason reason) {
   switch (reason) {
     case DropReason::NotSelected: return "not_selected";

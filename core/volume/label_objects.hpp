@@ -22,12 +22,11 @@
 
 #include "core/volume/input_kind.hpp"
 #include "core/volume/label_image.hpp"
+#include "core/volume/object_mode.hpp"
 #include "core/volume/specks_and_fragments.hpp"
 
 namespace wish::volume {
 
-enum class ObjectMode { Auto, Labels, Components };
-const char* to_string(ObjectMode mode);
 
 struct ObjectOptions {
   ObjectMode mode = ObjectMode::Auto;

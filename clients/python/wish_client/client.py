@@ -42,11 +42,11 @@ MeshInput = Union[str, os.PathLike, bytes, tuple[str, bytes]]
 _FORMATS = ("obj", "ply", "off", "stl")  # the `format` hint of a raw body (proto: components/parameters/format)
 
 #: Label volume files (NIfTI-1, TIFF stacks, OME-Zarr stores as a directory or their zip); the server detects them
-#: from the content. Volume options (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated,
-#: labels, threshold, label_image, level) mirror ``wish mesh-labels``.
+#: from the content. Volume options (proto: components/parameters spacing, unit, objects, min_voxels, fragment_gap,
+#: max_repair_share, drop_truncated, labels, threshold, label_image, level) mirror ``wish mesh-labels``.
 VOLUME_EXTENSIONS = (".nii", ".nii.gz", ".tif", ".tiff", ".zarr.zip")
-VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "threshold", "label_image",
-                     "level")
+VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "fragment_gap", "max_repair_share", "drop_truncated",
+                     "labels", "threshold", "label_image", "level")
 _ZARR_METADATA = (".zgroup", ".zattrs", ".zarray")
 
 
@@ -86,10 +86,13 @@ def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None 
                  min_voxels: int | None = None, drop_truncated: bool | str | None = None,
                  labels: Sequence[int] | str | None = None, threshold: float | str | None = None,
                  label_image: str | None = None,
-                 level: int | None = None) -> dict[str, Any]:
+                 level: int | None = None, fragment_gap: int | None = None,
+                 max_repair_share: float | None = None) -> dict[str, Any]:
     """The query parameters of a volume upload (``None``: the server's default). ``spacing`` and ``labels`` may
     also be given already encoded ("1,1,2", "3,7"). ``label_image`` and ``level`` choose an OME-Zarr store's label
-    image (labels/NAME; default the first listed) and multiscale level (default 0)."""
+    image (labels/NAME; default the first listed) and multiscale level (default 0). ``min_voxels`` replaces the
+    server's speck rule; ``fragment_gap`` (-1: never) and ``max_repair_share`` (0: never) bound the merging of mask
+    fragments and the removal of handles."""
     q: dict[str, Any] = {}
     if isinstance(spacing, str):
         q["spacing"] = spacing
@@ -117,6 +120,10 @@ def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None 
         q["label_image"] = label_image
     if level is not None:
         q["level"] = int(level)
+    if fragment_gap is not None:
+        q["fragment_gap"] = int(fragment_gap)
+    if max_repair_share is not None:
+        q["max_repair_share"] = repr(float(max_repair_share))
     return q
 
 
