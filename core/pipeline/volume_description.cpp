@@ -48,7 +48,7 @@ WishError no_objects_error(const VolumeSummary& s) {
 
 VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& options, const ObjectWork& work,
                               const ObjectResultCallback& on_object, const Deadline& deadline,
-                              const SummaryCallback& on_summary) {
+                              const SummaryCallback& on_summary, const VolumeCompleteCallback& on_complete) {
   std::int64_t kept = 0;
   return for_each_object_surface(
       bytes, options,
@@ -80,7 +80,8 @@ VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& optio
       [&](const VolumeSummary& s) {
         kept = s.kept;
         if (on_summary) on_summary(s);
-      });
+      },
+      on_complete);
 }
 
 }  // namespace wish

@@ -51,7 +51,7 @@ using ObjectResultCallback = std::function<void(std::size_t index, VolumeObjectR
 // exceeded after i of n objects" (details stage, objects_done, objects), cancelled with the deadline's error.
 VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& options, const ObjectWork& work,
                               const ObjectResultCallback& on_object, const Deadline& deadline = {},
-                              const SummaryCallback& on_summary = {});
+                              const SummaryCallback& on_summary = {}, const VolumeCompleteCallback& on_complete = {});
 
 // The refusal of a surface as an error: its code's category from the code table (Unmappable for a code it does
 // not list), details label_id and genus.

@@ -5,7 +5,8 @@
 namespace wish {
 
 VolumeSummary for_each_object_surface(std::string_view bytes, const VolumeOptions& options,
-                                      const ObjectCallback& on_object, const SummaryCallback& on_summary) {
+                                      const ObjectCallback& on_object, const SummaryCallback& on_summary,
+                                      const VolumeCompleteCallback& on_complete) {
   using Clock = std::chrono::steady_clock;
   VolumeSummary s;
   auto t0 = Clock::now();
@@ -36,6 +37,7 @@ VolumeSummary for_each_object_surface(std::string_view bytes, const VolumeOption
     volume::ObjectSurface surface = volume::object_surface(read.image, objects, objects.objects[i], options.surface);
     on_object(i, objects.objects[i], surface);
   }
+  if (on_complete) on_complete(read, objects);
   return s;
 }
 

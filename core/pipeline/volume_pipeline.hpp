@@ -40,7 +40,12 @@ using ObjectCallback = std::function<void(std::size_t index, const volume::Volum
 // Called with the summary once the objects are known, before the first object callback.
 using SummaryCallback = std::function<void(const VolumeSummary& summary)>;
 
+// Called once after the last object with what was read and the objects found, before they are freed: lets a caller
+// write an image of the objects (the class map, class_map.hpp) without reading the volume again.
+using VolumeCompleteCallback = std::function<void(const VolumeReadResult& read, const volume::ObjectSet& objects)>;
+
 VolumeSummary for_each_object_surface(std::string_view bytes, const VolumeOptions& options,
-                                      const ObjectCallback& on_object, const SummaryCallback& on_summary = {});
+                                      const ObjectCallback& on_object, const SummaryCallback& on_summary = {},
+                                      const VolumeCompleteCallback& on_complete = {});
 
 }  // namespace wish

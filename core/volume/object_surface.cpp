@@ -63,11 +63,11 @@ std::string handle_findings(const ObjectSurface& s, const SurfaceOptions& option
     out += "; it touches no other object";
   }
   if (s.pieces > 1) out += fmt("; it has %.0f separate pieces (the largest was meshed)", s.pieces);
-  out += "; removing the handles would " + s.repair.describe() +
+  out += "; the repair that removes the handles (" + s.repair.describe() + ")" +
          (options.max_repair_share > 0
-              ? fmt(", more than the bound of %.2f %% (--max-repair-share %.4g or --close-handles keep it)",
+              ? fmt(" changes more than the bound of %.2f %% (--max-repair-share %.4g or --close-handles keep it)",
                     100 * options.max_repair_share, s.repair.volume_change() * 1.0001)
-              : std::string(" (handle repair is off: --no-close-handles)"));
+              : std::string(" is not applied: handle repair is off (--no-close-handles)"));
   return out;
 }
 

@@ -153,15 +153,15 @@ TEST(ObjectSurface, HandleRepairOffOrOverTheBoundIsARefusalThatSaysWhatTheRepair
   EXPECT_EQ(refused.refusal_code, "genus_nonzero");
   EXPECT_NE(refused.refusal.find("genus 1"), std::string::npos) << refused.refusal;
   EXPECT_NE(refused.refusal.find("it touches no other object"), std::string::npos) << refused.refusal;
-  EXPECT_NE(refused.refusal.find("removing the handles would " + repaired.repair.describe() +
-                                 " (handle repair is off: --no-close-handles)"),
+  EXPECT_NE(refused.refusal.find("the repair that removes the handles (" + repaired.repair.describe() +
+                                 ") is not applied: handle repair is off (--no-close-handles)"),
             std::string::npos)
       << refused.refusal;
   SurfaceOptions tight;
   tight.max_repair_share = repaired.repair.volume_change() / 2;
   const ObjectSurface over = object_surface(image, set, set.objects[0], tight);
   EXPECT_FALSE(over.ok);
-  EXPECT_NE(over.refusal.find("more than the bound of"), std::string::npos) << over.refusal;
+  EXPECT_NE(over.refusal.find("changes more than the bound of"), std::string::npos) << over.refusal;
   SurfaceOptions any;
   any.max_repair_share = std::numeric_limits<double>::infinity();  // --close-handles
   EXPECT_TRUE(object_surface(image, set, set.objects[0], any).ok);
