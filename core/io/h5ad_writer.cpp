@@ -53,11 +53,20 @@ void string_array_attribute(hid_t owner, const char* name, const std::vector<std
   if (n > 0 && H5Awrite(attr, type, p.data()) < 0) failed(std::string("attribute ") + name);
 }
 
+// numpy's bool as h5py stores it: an 8-bit enum {FALSE = 0, TRUE = 1} (read back as numpy.bool_).
+Handle bool_type() {
+  Handle type(H5Tenum_create(H5T_NATIVE_INT8), H5Tclose, "a bool type");
+  const std::int8_t f = 0, t = 1;
+  if (H5Tenum_insert(type, "FALSE", &f) < 0 || H5Tenum_insert(type, "TRUE", &t) < 0) failed("a bool type");
+  return Handle(H5Tcopy(type), H5Tclose, "a bool type");
+}
+
 void bool_attribute(hid_t owner, const char* name, bool value) {
+  const Handle type = bool_type();
   const Handle space(H5Screate(H5S_SCALAR), H5Sclose, "an attribute");
-  const Handle attr(H5Acreate2(owner, name, H5T_NATIVE_HBOOL, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  const hbool_t v = value;
-  if (H5Awrite(attr, H5T_NATIVE_HBOOL, &v) < 0) failed(name);
+  const Handle attr(H5Acreate2(owner, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+  const std::int8_t v = value ? 1 : 0;
+  if (H5Awrite(attr, type, &v) < 0) failed(name);
 }
 
 void encoding(hid_t owner, const char* type, const char* version) {
@@ -89,11 +98,8 @@ void numeric_dataset(hid_t parent, const std::string& name, hid_t type, const st
   encoding(set, "array", "0.2.0");
 }
 
-// numpy's bool as h5py stores it: an 8-bit enum {FALSE = 0, TRUE = 1}.
 void bool_dataset(hid_t parent, const std::string& name, const std::vector<std::optional<bool>>& values) {
-  const Handle type(H5Tenum_create(H5T_NATIVE_INT8), H5Tclose, name);
-  const std::int8_t f = 0, t = 1;
-  if (H5Tenum_insert(type, "FALSE", &f) < 0 || H5Tenum_insert(type, "TRUE", &t) < 0) failed(name);
+  const Handle type = bool_type();
   std::vector<std::int8_t> v;
   for (const auto& b : values) v.push_back(b.value_or(false) ? 1 : 0);
   numeric_dataset(parent, name, type, v, {values.size()});

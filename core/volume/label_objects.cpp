@@ -193,10 +193,10 @@ ObjectSet find_objects(const LabelImage& image, const ObjectOptions& options) {
       drop(DropReason::NotSelected, set.dropped_not_selected, "not among the selected label ids");
     } else if (options.min_voxels && o.voxel_count < *options.min_voxels) {
       drop(DropReason::Small, set.dropped_small,
-           "small: " + count_text(o.voxel_count) + ", under min_voxels " + std::to_string(*options.min_voxels));
+           count_text(o.voxel_count) + ", under min_voxels " + std::to_string(*options.min_voxels));
     } else if (!options.min_voxels && o.voxel_count < set.specks.below) {
       drop(DropReason::Speck, set.dropped_specks,
-           "speck: " + count_text(o.voxel_count) + ", under " + std::to_string(set.specks.below) +
+           count_text(o.voxel_count) + ", under " + std::to_string(set.specks.below) +
                " (the volume's typical object has " + count_text(set.specks.typical_voxels) +
                "; min_voxels sets the bound)");
     } else if (o.truncated && options.drop_truncated) {

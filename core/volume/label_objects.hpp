@@ -62,7 +62,7 @@ const char* to_string(DropReason reason);  // "not_selected", "speck", "small", 
 struct DroppedObject {
   VolumeObject object;
   DropReason reason = DropReason::Speck;
-  std::string why;  // "speck: 3 voxels, under 8 (the typical object has 12000 voxels)"
+  std::string why;  // "3 voxels, under 8 (the volume's typical object has 12000 voxels; ...)"
 };
 
 struct ObjectSet {
