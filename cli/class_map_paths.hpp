@@ -5,8 +5,6 @@
 // (core/pipeline/object_table.hpp) goes to T.csv and T.h5ad, by default beside the class map as <OUT stem>.objects.csv
 // (one volume) or OUT/objects.csv (several).
 
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <string>
 
@@ -14,15 +12,6 @@
 #include "core/io/volume_io.hpp"
 
 namespace wish::cli {
-
-// The model's name as a label image name (labels/NAME: one path segment; other characters become '_').
-inline std::string label_image_name(const std::string& model_name) {
-  std::string n = model_name.empty() ? std::string("wish") : model_name;
-  for (char& c : n)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
-  if (n.front() == '.') n.front() = '_';
-  return n;
-}
 
 inline const char* class_map_extension(VolumeFormat format) {
   return format == VolumeFormat::Nifti ? ".nii.gz" : format == VolumeFormat::Tiff ? ".tif" : ".zarr";

@@ -147,7 +147,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     const bool several = o->files.size() > 1;
     if (writes_maps && several) std::filesystem::create_directories(o->out_labels);
     const ClassMapLegend legend = class_map_legend(model.classes());
-    const std::string map_name = label_image_name(model.name());
+    const std::string map_name = class_map_name(model.name());
     ObjectTable table(model.classes());
     if (writes_maps && !o->quiet) print_legend(std::cerr, legend);
     for (const auto& file : o->files) {

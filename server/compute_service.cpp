@@ -1,5 +1,6 @@
 #include "server/compute_service.hpp"
 
+#include "core/pipeline/class_map.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/spherical_map/flow_step_cap.hpp"
@@ -7,6 +8,7 @@
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/api_response.hpp"
 #include "server/loaded_model.hpp"
+#include "wire/base64.hpp"
 #include "wire/result_json.hpp"
 #include "wire/volume_result_json.hpp"
 
@@ -151,10 +153,37 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
     }
     return result;
   };
+  // ?output=labels: each object's class map value as it is classified, the map itself once the volume is done.
+  std::optional<ClassMap> class_map;
+  if (job.params.output_labels) class_map.emplace(class_map_legend(job.model->model.classes()));
+  nlohmann::json class_map_json;
+  const auto on_complete = [&](const VolumeReadResult& read, const volume::ObjectSet& found) {
+    if (!class_map) return;
+    const std::string name = class_map_name(job.model->model.name());
+    const ClassMapBytes bytes = class_map_bytes(name, read, found, *class_map);
+    nlohmann::json values = nlohmann::json::array();
+    for (const auto& e : class_map->legend().entries)
+      values.push_back({{"value", e.value}, {"name", e.name}, {"rgb", {e.rgb[0], e.rgb[1], e.rgb[2]}}});
+    std::string stem = job.part.filename.empty() ? std::string("volume") : job.part.filename;
+    for (const char* ext : {".nii.gz", ".nii", ".tiff", ".tif", ".ome.zarr.zip", ".zarr.zip", ".zip"})
+      if (stem.size() > std::string(ext).size() && stem.ends_with(ext)) {
+        stem.resize(stem.size() - std::string(ext).size());
+        break;
+      }
+    class_map_json = {{"name", name},
+                      {"format", to_string(read.format)},
+                      {"media_type", bytes.media_type},
+                      {"filename", stem + "_" + name + bytes.extension},
+                      {"values", values},
+                      {"encoding", "base64"},
+                      {"bytes", bytes.bytes.size()},
+                      {"data", wire::base64_encode(bytes.bytes)}};
+  };
   const auto on_object = [&](std::size_t, VolumeObjectResult& object) {
     const volume::SurfaceTimings& st = object.surface.timings;
     out.stages["surface"] += st.extraction + st.surface + st.smoothing + st.decimation;
     nlohmann::json entry{{"label_id", object.object.id}, {"object", volume_object_json(object, unit)}};
+    if (class_map) entry["class_value"] = class_map->add(object).value;
     int status = 200;
     if (object.error) {
       const ApiError error = to_api_error(*object.error);
@@ -180,7 +209,8 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
                               [&](const VolumeSummary& s) {
                                 kept = s.kept;
                                 unit = s.unit;
-                              });
+                              },
+                              on_complete);
   } catch (const WishError& e) {
     if (e.category() != ErrorCategory::Timeout) throw;
     ErrorDetails details = e.details();  // the service's limit beside the count of objects done
@@ -201,6 +231,7 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
   out.result["volume"]["bytes"] = job.part.bytes->size();
   if (job.op == Operation::Classify)
     out.result["model"] = {{"name", json_options.model_name}, {"version", json_options.model_version}};
+  if (!class_map_json.is_null()) out.result["class_map"] = std::move(class_map_json);
 }
 
 }  // namespace

@@ -135,7 +135,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
   static const std::set<std::string> known_describe{"lmax", "method", "steps", "include", "reconstruction_level",
                                                     "format", "spacing", "unit", "objects", "min_voxels",
                                                     "drop_truncated", "labels", "threshold", "label_image", "level",
-                                                    "fragment_gap", "max_repair_share"};
+                                                    "fragment_gap", "max_repair_share", "output"};
   ComputeParams out;
   std::set<std::string> seen;
   for (const auto& [name, raw] : params) {
@@ -194,6 +194,14 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
         if (comma == std::string::npos) break;
         start = comma + 1;
       }
+    } else if (name == "output") {
+      const std::string v = lower(value);
+      if (v != "json" && v != "labels")
+        invalid_parameter(name, "output must be json or labels, not '" + value + "'", value);
+      if (v == "labels" && op != Operation::Classify)
+        invalid_parameter(name, "output=labels writes a class map, which needs a model: use /v1/classify", value);
+      out.output_labels = v == "labels";
+      out.volume_given.push_back(name);  // a label volume's answer only: refused with a mesh part
     } else if (name == "reconstruction_level") {
       out.reconstruction_level = parse_int(name, value, 0, 7);
     } else if (name == "format") {

@@ -37,6 +37,9 @@ struct ComputeParams {
   // (core/pipeline/volume_overrides.hpp). Only for volume parts: given with a mesh part they are refused, not ignored.
   VolumeOverrides volume;
   std::vector<std::string> volume_given;  // names of the volume parameters the request set
+  // ?output=labels (classify, label volumes only): the answer carries the class map too, in the upload's format
+  // (VolumeResult.class_map: core/pipeline/class_map.hpp, base64 in the JSON).
+  bool output_labels = false;
   bool explicit_descriptor() const { return descriptor.any(); }
 };
 

@@ -1,6 +1,7 @@
 #include "core/pipeline/class_map.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -39,6 +40,14 @@ double probability_of(const Prediction& p, const std::string& label) {
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 }  // namespace
+
+std::string class_map_name(const std::string& model_name) {
+  std::string n = model_name.empty() ? std::string("wish") : model_name;
+  for (char& c : n)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
+  if (n.front() == '.') n.front() = '_';
+  return n;
+}
 
 std::uint8_t ClassMapLegend::class_value(const std::string& label) const {
   const auto it = std::find(classes.begin(), classes.end(), label);

@@ -37,6 +37,10 @@ struct ClassMapLegend {
   std::vector<std::array<std::uint8_t, 3>> palette() const;  // RGB by value, 0 black
 };
 
+// The label image name of a model's class map (OME-Zarr labels/<name>, file names): the model's name with every
+// character but letters, digits, '-', '_' and '.' made '_' ("wish" for an unnamed model; never a leading '.').
+std::string class_map_name(const std::string& model_name);
+
 // Throws InvalidInputError("invalid_parameter") for more than 253 classes (values must fit 8 bits).
 ClassMapLegend class_map_legend(const std::vector<std::string>& classes);
 
