@@ -73,7 +73,7 @@ class ClassMap {
 LabelRowSource class_map_source(const volume::LabelImage& image, const volume::ObjectSet& objects, const ClassMap& map);
 
 // NGFF "image-label" metadata (JSON text): a colour and the class name per value, and per value the objects that
-// carry it (label id, class, probability, margin, novel, error code); source image "../../".
+// carry it (label id, class, probability, margin, novel, error code); the source image two levels up.
 std::string ngff_image_label_json(const ClassMap& map);
 
 // Written in the format of `read` (format by input): NIfTI (gzipped when `path` ends .gz), TIFF, or an OME-Zarr

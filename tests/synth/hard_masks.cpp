@@ -207,11 +207,13 @@ std::optional<HardMask> soft_urocell_mask(const volume::LabelImage& volume, std:
   return m;
 }
 
-HardMaskOutcome default_path_outcome(const HardMask& m) {
+HardMaskOutcome default_path_outcome(const HardMask& m, bool decimate) {
   const std::string bytes = write_nifti(m.image, "uint8", true);
   HardMaskOutcome out;
+  VolumeOptions options;
+  if (!decimate) options.surface.target_vertices = 0;
   const VolumeSummary s = describe_volume(
-      bytes, VolumeOptions{},
+      bytes, options,
       [](const volume::VolumeObject&, Mesh) -> std::optional<PipelineResult> { return std::nullopt; },
       [&](std::size_t, VolumeObjectResult& r) {
         out.genus = r.surface.genus;

@@ -49,7 +49,9 @@ struct HardMaskOutcome {
   std::string repair = "none", refusal;
   double volume_change = 0;            // of the handle repair (kept or not)
 };
-HardMaskOutcome default_path_outcome(const HardMask& mask);
+// `decimate` false skips the last step, the quadric decimation to 10,000 vertices (OpenMesh's link condition keeps
+// the genus; it is most of the time on these 64³ masks), for the sweeps; the objects, repairs and status are the same.
+HardMaskOutcome default_path_outcome(const HardMask& mask, bool decimate = true);
 void print_outcome_header();
 void print_outcome_row(const HardMask& mask, const HardMaskOutcome& outcome);
 

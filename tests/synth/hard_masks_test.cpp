@@ -2,7 +2,7 @@
 // flags, meshed genus 0: written as an 8-bit NIfTI and read by the default label-volume path (core/pipeline
 // describe_volume with default VolumeOptions, as `wish train` / `wish predict` read a file). Prints the table of what
 // the defaults did per mask (specks dropped, fragments merged, genus, repair, volume change) for docs/accuracy.md.
-// The UroCell-derived masks (../shared/data) are tests/synth/hard_masks_urocell_test.cpp (slow).
+// The UroCell-derived masks (../shared/data) are tests/synth/hard_masks_sweep_test.cpp (slow).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -12,7 +12,7 @@
 namespace wish::testing {
 namespace {
 
-// A sample of each family here (about 15 s); all 60 in tests/synth/hard_masks_sweep_test.cpp (slow).
+// A sample of each family here (about 5 s); all 60 in tests/synth/hard_masks_sweep_test.cpp (slow).
 TEST(HardMasks, ASampleOfEachFamilyIsOneObjectMeshedGenusZeroWithNoFlags) {
   print_outcome_header();
   std::vector<HardMask> sample = {drilled_mask(1, 1, false), drilled_mask(3, 2, true), drilled_mask(5, 3, false),
