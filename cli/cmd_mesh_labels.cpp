@@ -25,6 +25,7 @@
 #include "cli/volume_rows.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
+#include "core/pipeline/object_table.hpp"
 #include "core/pipeline/volume_description.hpp"
 
 namespace wish::cli {
@@ -38,12 +39,6 @@ struct MeshLabelsOptions {
   VolumeCliOptions volume;
 };
 
-std::string csv_text(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
 
 std::string num(double v) {
   char b[64];
@@ -87,15 +82,15 @@ int run(const MeshLabelsOptions& o) {
             }
             std::string repairs;
             for (const auto& rep : s.repairs) repairs += (repairs.empty() ? "" : "; ") + rep;
-            csv << csv_text(stem) << ',' << obj.id << ',' << obj.voxel_count << ',' << num(obj.centroid(0)) << ','
+            csv << csv_field(stem) << ',' << obj.id << ',' << obj.voxel_count << ',' << num(obj.centroid(0)) << ','
                 << num(obj.centroid(1)) << ',' << num(obj.centroid(2)) << ',' << obj.bbox_min[0] << ',' << obj.bbox_min[1]
                 << ',' << obj.bbox_min[2] << ',' << obj.bbox_max[0] << ',' << obj.bbox_max[1] << ',' << obj.bbox_max[2]
                 << ',' << (obj.truncated ? "true" : "false") << ',' << s.genus << ',' << (r.ok() ? "meshed" : "refused")
-                << ',' << csv_text(r.ok() ? "" : r.error->code() + ": " + r.error->what()) << ','
-                << csv_text(out_file) << ',' << s.vertices << ',' << s.faces << ',' << num(s.area) << ','
+                << ',' << csv_field(r.ok() ? "" : r.error->code() + ": " + r.error->what()) << ','
+                << csv_field(out_file) << ',' << s.vertices << ',' << s.faces << ',' << num(s.area) << ','
                 << num(s.volume) << ',' << num(s.voxel_volume) << ','
                 << num(s.voxel_volume > 0 && r.ok() ? s.volume / s.voxel_volume : 0) << ',' << num(s.raw_area) << ','
-                << csv_text(unit) << ',' << csv_text(repairs) << ',' << num(s.timings.extraction) << ','
+                << csv_field(unit) << ',' << csv_field(repairs) << ',' << num(s.timings.extraction) << ','
                 << num(s.timings.surface) << ',' << num(s.timings.smoothing) << ',' << num(s.timings.decimation)
                 << ',' << input_kind << ',' << threshold << ',' << obj.fragments.size() << ','
                 << (s.genus > 0 && s.repaired ? s.repair.method() : "none") << ','
@@ -118,11 +113,11 @@ int run(const MeshLabelsOptions& o) {
       // Every object a filter dropped is a row too, with its reason: never dropped silently.
       for (const volume::DroppedObject& d : summary.dropped) {
         const volume::VolumeObject& obj = d.object;
-        csv << csv_text(stem) << ',' << obj.id << ',' << obj.voxel_count << ',' << num(obj.centroid(0)) << ','
+        csv << csv_field(stem) << ',' << obj.id << ',' << obj.voxel_count << ',' << num(obj.centroid(0)) << ','
             << num(obj.centroid(1)) << ',' << num(obj.centroid(2)) << ',' << obj.bbox_min[0] << ',' << obj.bbox_min[1]
             << ',' << obj.bbox_min[2] << ',' << obj.bbox_max[0] << ',' << obj.bbox_max[1] << ',' << obj.bbox_max[2]
-            << ',' << (obj.truncated ? "true" : "false") << ",,dropped," << csv_text(std::string(volume::to_string(d.reason)) + ": " + d.why)
-            << ",,,,,,,,," << csv_text(unit) << ",,,,,," << input_kind << ',' << threshold << ','
+            << ',' << (obj.truncated ? "true" : "false") << ",,dropped," << csv_field(std::string(volume::to_string(d.reason)) + ": " + d.why)
+            << ",,,,,,,,," << csv_field(unit) << ",,,,,," << input_kind << ',' << threshold << ','
             << obj.fragments.size() << ",,\n";
       }
     } catch (const WishError& e) {

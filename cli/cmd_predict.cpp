@@ -65,12 +65,6 @@ double probability_of(const nlohmann::json& row, const std::string& c) {
   return 0;
 }
 
-std::string csv_quote(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
 
 CommandRunner setup_predict(CLI::App& sub) {
   auto o = std::make_shared<PredictOptions>();
@@ -226,9 +220,9 @@ CommandRunner setup_predict(CLI::App& sub) {
       std::cout << "\n" << std::setprecision(10);
       for (const auto& r : results) {
         if (r.contains("error")) continue;
-        std::cout << csv_quote(r["file"].get<std::string>()) << ","
+        std::cout << csv_field(r["file"].get<std::string>()) << ","
                   << (r.contains("label_id") ? std::to_string(r["label_id"].get<std::uint32_t>()) : "") << ","
-                  << csv_quote(r["label"].get<std::string>()) << ","
+                  << csv_field(r["label"].get<std::string>()) << ","
                   << r["margin"].get<double>() << ",";
         // Empty novelty cells: the model has no novelty calibration.
         if (r["novel"].is_boolean()) {

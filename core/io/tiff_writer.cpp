@@ -100,13 +100,9 @@ void check_shape(const LabelImageShape& shape) {
     if (n < 1 || n > 65535) throw InvalidInputError("invalid_parameter", "TIFF label image dimensions must be 1 to 65535");
 }
 
-}  // namespace
-
-void write_tiff_labels(const std::filesystem::path& path, const LabelImageShape& shape, const LabelRowSource& source,
-                       const std::vector<std::array<std::uint8_t, 3>>& palette) {
-  check_shape(shape);
-  TIFF* tif = TIFFOpen(path.c_str(), "w");
-  if (!tif) throw IoError("write_failed", "cannot open " + path.string() + " for writing", {{"path", path.string()}});
+// Writes every page to an open TIFF and closes it, also when a page fails.
+void write_and_close(TIFF* tif, const LabelImageShape& shape, const LabelRowSource& source,
+                     const std::vector<std::array<std::uint8_t, 3>>& palette) {
   try {
     write_pages(tif, shape, source, palette);
   } catch (...) {
@@ -116,6 +112,16 @@ void write_tiff_labels(const std::filesystem::path& path, const LabelImageShape&
   TIFFClose(tif);
 }
 
+}  // namespace
+
+void write_tiff_labels(const std::filesystem::path& path, const LabelImageShape& shape, const LabelRowSource& source,
+                       const std::vector<std::array<std::uint8_t, 3>>& palette) {
+  check_shape(shape);
+  TIFF* tif = TIFFOpen(path.c_str(), "w");
+  if (!tif) throw IoError("write_failed", "cannot open " + path.string() + " for writing", {{"path", path.string()}});
+  write_and_close(tif, shape, source, palette);
+}
+
 std::string tiff_labels_bytes(const LabelImageShape& shape, const LabelRowSource& source,
                               const std::vector<std::array<std::uint8_t, 3>>& palette) {
   check_shape(shape);
@@ -123,13 +129,7 @@ std::string tiff_labels_bytes(const LabelImageShape& shape, const LabelRowSource
   TIFF* tif = TIFFClientOpen("class-map.tif", "w", &out, out_read, out_write, out_seek, out_close, out_size, out_map,
                              out_unmap);
   if (!tif) failed("cannot open an in-memory TIFF");
-  try {
-    write_pages(tif, shape, source, palette);
-  } catch (...) {
-    TIFFClose(tif);
-    throw;
-  }
-  TIFFClose(tif);
+  write_and_close(tif, shape, source, palette);
   return std::move(out.bytes);
 }
 

@@ -9,14 +9,15 @@
 #include "core/common/errors.hpp"
 
 namespace wish {
-namespace {
 
-std::string quoted(const std::string& s) {
+std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
   std::string q = "\"";
   for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
   return q + "\"";
 }
+
+namespace {
 
 std::string number(double v) {
   if (!std::isfinite(v)) return "";
@@ -115,8 +116,8 @@ std::string ObjectTable::csv() const {
   out += "\n";
   for (const Row& r : rows_) {
     const volume::VolumeObject& o = r.object;
-    out += quoted(r.file) + "," + std::to_string(r.label_id) + "," + r.status + "," + quoted(r.reason) + "," +
-           quoted(r.label) + "," + std::to_string(r.value) + "," + number(r.probability) + "," + number(r.margin) + "," +
+    out += csv_field(r.file) + "," + std::to_string(r.label_id) + "," + r.status + "," + csv_field(r.reason) + "," +
+           csv_field(r.label) + "," + std::to_string(r.value) + "," + number(r.probability) + "," + number(r.margin) + "," +
            yes_no(r.novel) + "," + number(r.novelty_score) + "," + number(r.novelty_p_value);
     for (std::size_t c = 0; c < classes_.size(); ++c)
       out += "," + (c < r.probabilities.size() ? number(r.probabilities[c]) : std::string());
@@ -128,7 +129,7 @@ std::string ObjectTable::csv() const {
            (r.status == "dropped" ? std::string() : std::to_string(r.genus)) + "," +
            (r.status == "dropped" ? std::string() : r.repair) + "," +
            (r.status == "dropped" ? std::string() : number(r.volume_change)) + "," + number(r.area) + "," +
-           number(r.volume) + "," + number(r.voxel_volume) + "," + quoted(r.unit);
+           number(r.volume) + "," + number(r.voxel_volume) + "," + csv_field(r.unit);
     const std::size_t nxi = features.size() - (r.global.empty() ? 0 : r.global.size());
     for (std::size_t f = 0; f < features.size(); ++f) {
       double v = kNaN;

@@ -25,6 +25,9 @@
 
 namespace wish {
 
+// A CSV field (RFC 4180): quoted, with doubled quotes, when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text);
+
 class ObjectTable {
  public:
   explicit ObjectTable(std::vector<std::string> classes) : classes_(std::move(classes)) {}
