@@ -29,6 +29,8 @@ target_link_libraries(wish::libsvm INTERFACE ${LIBSVM_LIBRARY})
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
 pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
+# The per-object table of a classified label volume as AnnData (.h5ad): Debian's serial libhdf5 (C API).
+pkg_check_modules(HDF5 REQUIRED IMPORTED_TARGET hdf5)
 
 # cpp-httplib 0.11 is a compiled library with only a pkg-config file.
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)

@@ -11,6 +11,7 @@ runtime_build=(
   libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsvm-dev
   zlib1g-dev libtiff-dev libopenmesh-dev
   libzip-dev libzstd-dev libblosc-dev   # OME-Zarr label images: zip stores, zstd and blosc chunks
+  libhdf5-dev                          # the per-object table of a classified volume as AnnData (.h5ad)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3
   ccache   # docker/Dockerfile compiles through it: the image reuses the objects scripts/test.sh compiled on the host
@@ -19,6 +20,7 @@ test_extra=(
   clang libclang-rt-14-dev
   python3-jsonschema python3-numpy python3-scipy python3-sklearn python3-matplotlib
   python3-zarr                       # writes the OME-Zarr stores the reader's tests read (an independent writer)
+  python3-nibabel python3-anndata python3-h5py  # independent readers of the class maps and the .h5ad table
   assimp-testmodels nginx-light wrk yamllint python3-yaml
   chromium
   docker.io debootstrap              # scripts/test-docker.sh: the image built and run, its base made from Debian
