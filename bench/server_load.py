@@ -131,8 +131,10 @@ class Server:
     def __init__(self, wish, models, workers, queue_size, tmp):
         self.log_path = os.path.join(tmp, "server-%d.log" % time.time_ns())
         self.log = open(self.log_path, "wb")
-        self.proc = subprocess.Popen([wish, "serve", "--models", models, "--host", "127.0.0.1", "--port", "0",
-                                      "--workers", str(workers), "--queue-size", str(queue_size)],
+        # `wish serve ...` or the service executable itself (`wish-server ...`: what `wish serve` runs).
+        command = [wish] if os.path.basename(wish) == "wish-server" else [wish, "serve"]
+        self.proc = subprocess.Popen(command + ["--models", models, "--host", "127.0.0.1", "--port", "0",
+                                                "--workers", str(workers), "--queue-size", str(queue_size)],
                                      stdout=self.log, stderr=subprocess.STDOUT)
         self.port = None
         for _ in range(600):
@@ -298,7 +300,8 @@ def requests_for(clients, workers, seconds_per_request, target_seconds):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--wish", default=os.path.join(ROOT, "build", "release", "cli", "wish"))
+    ap.add_argument("--wish", default=os.path.join(ROOT, "build", "release", "cli", "wish"),
+                    help="the wish executable, or wish-server")
     ap.add_argument("--models", default=os.path.join(ROOT, "data", "models"))
     ap.add_argument("--route", default="/v1/classify")
     ap.add_argument("--nucleus", default=NUCLEUS, help="the ~10.8K-vertex nucleus OBJ")
@@ -329,8 +332,7 @@ def main():
         body = open(path, "rb").read()
         server = Server(args.wish, args.models, args.workers, args.queue_size, tmp)
         try:
-            post(http.client.HTTPConnection("127.0.0.1", server.port, timeout=600), args.route, body)  # warm-up
-            cpu1, lat1 = alone(server, args.route, body, 1)
+            cpu1, _ = alone(server, args.route, body, 1)  # also the warm-up
             single = args.single or max(3, min(20, int(10 / cpu1)))
             cpu_alone, latency_alone = alone(server, args.route, body, single)
             bound = min(cores, args.workers) / cpu_alone
