@@ -32,6 +32,7 @@
 #include "core/classify/dataset.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/laplace_spectrum.hpp"
 #include "core/classify/recipe_names.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/training.hpp"
@@ -60,6 +61,7 @@ struct TrainCliOptions {
   int lmax = 10;
   FeatureFamily features = FeatureFamily::Invariants;
   ScaleNormalization scale = ScaleNormalization::None;
+  int spectrum_count = kDefaultSpectrumCount;
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   bool early_stop = true;
   double novelty_quantile = 0.99;
@@ -94,6 +96,9 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
       ->check(CLI::Range(1, 100))->capture_default_str();
   add_enum_option(sub, "--features", o->features, kFeatureFamilyNames, "Feature family");
+  sub.add_option("--spectrum-count", o->spectrum_count,
+                 "Families with the spectrum: how many Laplace-Beltrami eigenvalues (ShapeDNA)")
+      ->check(CLI::Range(1, kMaxSpectrumCount))->capture_default_str();
   add_enum_option(sub, "--scale", o->scale, kScaleNormalizationNames,
                   "Scale normalisation of xi: none, xi(l)/xi(1) or xi(l)/surface area");
   sub.add_flag("--log,!--no-log", o->log, "log of the (normalised) energies (default on; --no-log: off)");
@@ -166,6 +171,7 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.features.scale = o->scale;
     recipe.features.log_transform = o->log;
     recipe.features.global_scale_free = o->global_scale_free;
+    recipe.features.spectrum_count = family_blocks(o->features).spectrum ? o->spectrum_count : 0;
     recipe.off_recipe = o->off_recipe;
 
     std::vector<TrainingSample> samples;

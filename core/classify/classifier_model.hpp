@@ -23,6 +23,10 @@ namespace wish {
 struct ShapeFeatures {
   Eigen::VectorXd invariants;  // xi(0..Lmax)
   Eigen::VectorXd global;      // global_shape_descriptors(mesh)
+  // Computed only when a recipe's family uses them (empty otherwise):
+  Eigen::VectorXd laplace_spectrum;  // λ_1..λ_n · A/(4π), ascending (laplace_spectrum.hpp)
+  Eigen::VectorXd canonical_sh;      // canonical real SH coefficients of degrees 1..Lmax, flattened as
+                                     // canonical_sh_features(.., 1, Lmax) (core/sh/sh_canonical_frame.hpp)
 };
 
 struct Prediction {
