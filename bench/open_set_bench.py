@@ -228,9 +228,13 @@ def fold_scores(Ztr, ytr, P, names, seed):
     need_knn = any(n.startswith("knn") for n in names)
     need_gauss = any(n.startswith("gauss") or n == "combo" for n in names)
     if need_knn:
-        kr = KnnScore(Ztr, ytr).ratios(P)
+        kr = KnnScore(Ztr, ytr, q=0.99).ratios(P)
         out["knn_min"] = kr.min(1)
         out["knn_pred"] = kr[rows, pi]
+        # The same ratios against each class's 0.95 quantile: > 1 is what a model at quantile 0.95 flags.
+        kr95 = KnnScore(Ztr, ytr, q=0.95).ratios(P)
+        out["flag95_min"] = (kr95.min(1) > 1).astype(float)
+        out["flag95_pred"] = (kr95[rows, pi] > 1).astype(float)
     if need_gauss:
         gs = GaussScore(Ztr, ytr, seed=seed)
         gr = gs.ratios(P)
@@ -252,7 +256,7 @@ def fold_scores(Ztr, ytr, P, names, seed):
         pg = conformal_p(np.array(cal_g), out["gauss_pred"])
         pp = conformal_p(np.array(cal_p), out["maxprob"])
         out["combo"] = -np.log(np.minimum(pg, pp))
-    return {n: out[n] for n in names}
+    return {n: out[n] for n in names + [k for k in out if k.startswith("flag95")]}
 
 
 def detection(known, unseen, fpr):
@@ -265,14 +269,14 @@ def open_set(X, y, names, args):
     res = {n: [] for n in names + ["ceiling"]}
     per_class = []
     for left in labels:
-        scores = {n: np.zeros(len(y)) for n in names + ["ceiling"]}
+        scores = {n: np.zeros(len(y)) for n in names + ["ceiling", "flag95_min", "flag95_pred"]}
         tested = np.zeros(len(y), bool)
         for f, (tr, te) in enumerate(StratifiedKFold(args.folds, shuffle=True, random_state=args.seed).split(X, y)):
             ktr = tr[y[tr] != left]
             sc = StandardScaler().fit(X[ktr])
             Ztr, P = sc.transform(X[ktr]), sc.transform(X[te])
             fs = fold_scores(Ztr, y[ktr], P, names, args.seed + f)
-            for n in names:
+            for n in fs:
                 scores[n][te] = fs[n]
             if args.ceiling:
                 sc2 = StandardScaler().fit(X[tr])
@@ -288,6 +292,9 @@ def open_set(X, y, names, args):
             d2, d5 = detection(s[~u], s[u], 0.02), detection(s[~u], s[u], 0.05)
             res[n].append((a, d2, d5))
             row.append((a, d2, d5))
+        if "knn_min" in names:  # what a model calibrated at quantile 0.95 flags: unseen / known (%)
+            for n in ("flag95_min", "flag95_pred"):
+                res.setdefault(n, []).append((100 * scores[n][u].mean(), 100 * scores[n][~u].mean(), 0))
         per_class.append(row)
     return res, per_class
 
@@ -345,6 +352,9 @@ def main():
                 if args.ceiling:
                     best = max(names, key=lambda n: mean[n][2])
                     line += f" {mean['ceiling'][2] - mean[best][2]:.1f} ({best}) |"
+                if "flag95_min" in mean:
+                    line += " q 0.95 flags (unseen / known): min %.0f / %.1f, pred %.0f / %.1f |" % (
+                        mean["flag95_min"][0], mean["flag95_min"][1], mean["flag95_pred"][0], mean["flag95_pred"][1])
                 print(line, flush=True)
                 if args.per_class:
                     for row in per_class:

@@ -15,6 +15,7 @@
 
 #include "cli/command_registry.hpp"
 #include "wire/error_json.hpp"
+#include "wire/wire_json.hpp"
 #include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"
@@ -71,7 +72,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     bool ok = true;
     nlohmann::json results = nlohmann::json::array();
     const wish::PredictOptions predict_options{o->novelty_quantile};
-    auto record = [](nlohmann::json& r, const Prediction& p) {
+    auto record = [&model](nlohmann::json& r, const Prediction& p) {
       r["label"] = p.label;
       r["margin"] = p.margin;
       // null: the model has no novelty calibration (a file written before format 3), so nothing was computed.
@@ -79,6 +80,7 @@ CommandRunner setup_predict(CLI::App& sub) {
       if (p.novelty)
         r["novelty"] = {{"score", p.novelty->score}, {"p_value", p.novelty->p_value},
                         {"threshold", p.novelty->threshold}, {"quantile", p.novelty->quantile}};
+      if (p.novelty) r["novelty"].update(wire::novelty_explanation_json(*p.novelty, model.classes()));
       nlohmann::json probs = nlohmann::json::object();
       for (const auto& [label, prob] : p.probabilities) probs[label] = prob;
       r["probabilities"] = probs;
@@ -158,6 +160,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     } else if (o->csv) {
       std::cout << "file,label_id,label,margin,novel,novelty_score,novelty_p_value";
       for (const auto& c : classes) std::cout << ",p_" << c;
+      std::cout << ",novelty_nearest_class,novelty_distance_ratio";
       std::cout << "\n" << std::setprecision(10);
       for (const auto& r : results) {
         if (r.contains("error")) continue;
@@ -173,6 +176,10 @@ CommandRunner setup_predict(CLI::App& sub) {
           std::cout << ",,";
         }
         for (const auto& c : classes) std::cout << "," << r["probabilities"][c].get<double>();
+        // Why: the class the sample is most like and its distance in units of that class's spread (empty without).
+        const bool why = r.contains("novelty") && r["novelty"].contains("nearest_class");
+        std::cout << "," << (why ? csv_quote(r["novelty"]["nearest_class"].get<std::string>()) : "") << ",";
+        if (why) std::cout << wire::json_number_or_nan(r["novelty"]["distance_ratio"]);
         std::cout << "\n";
       }
     } else {
@@ -184,8 +191,14 @@ CommandRunner setup_predict(CLI::App& sub) {
         std::cout.unsetf(std::ios::fixed);
         std::cout << ")";
         if (r["novel"].is_boolean() && r["novel"].get<bool>())
+        {
           std::cout << "  [NOVEL: unlike the training set (p = " << std::setprecision(3)
-                    << r["novelty"]["p_value"].get<double>() << "), none of the known types?]";
+                    << r["novelty"]["p_value"].get<double>() << ")";
+          if (r["novelty"].contains("nearest_class"))
+            std::cout << "; nearest class " << r["novelty"]["nearest_class"].get<std::string>() << " at "
+                      << std::setprecision(3) << wire::json_number_or_nan(r["novelty"]["distance_ratio"]) << "x its spread";
+          std::cout << ", none of the known types?]";
+        }
         if (r.contains("recipe_match") && !r["recipe_match"].get<bool>())
           std::cout << "  [off-recipe: map by " << r["method_used"].get<std::string>() << ", model's recipe "
                     << to_string(model.recipe().map.method) << "]";

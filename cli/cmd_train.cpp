@@ -66,6 +66,7 @@ struct TrainCliOptions {
   bool early_stop = true;
   double novelty_quantile = 0.99;
   int novelty_folds = 0;
+  NoveltyRule novelty_rule = NoveltyRule::NearestClass;
   std::uint64_t seed = 42;
   int jobs = 0;
   MapMethod method = MapMethod::Cmcf;
@@ -140,6 +141,9 @@ CommandRunner setup_train(CLI::App& sub) {
                  "The model's default novelty threshold: per class, this quantile of the class's leave-one-out (or "
                  "--novelty-folds cross-validated) k-NN distances (a prediction above every class's says novel: true; predict/serve may override)")
       ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
+  add_enum_option(sub, "--novelty-rule", o->novelty_rule, kNoveltyRuleNames,
+                  "Which class's threshold flags a sample novel: every class's (nearest_class, model format 5/6) or the "
+                  "class the SVM predicts (predicted_class, format 7); docs/benchmarks.md \"Novelty, issue 38\"");
   sub.add_option("--novelty-folds", o->novelty_folds,
                  "Novelty calibration scores: 0 leave-one-out (model format 5), N >= 2 N-fold cross-validated (format 6: "
                  "the quantile's false-flag rate holds more closely, fewer new types flagged; docs/benchmarks.md \"Novelty\")")
@@ -171,7 +175,7 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.features.scale = o->scale;
     recipe.features.log_transform = o->log;
     recipe.features.global_scale_free = o->global_scale_free;
-    recipe.features.spectrum_count = family_blocks(o->features).spectrum ? o->spectrum_count : 0;
+    recipe.features.spectrum_count = o->spectrum_count;
     recipe.off_recipe = o->off_recipe;
 
     std::vector<TrainingSample> samples;
@@ -247,6 +251,7 @@ CommandRunner setup_train(CLI::App& sub) {
     t.grid.early_stop = o->early_stop;
     t.novelty_quantile = o->novelty_quantile;
     t.novelty_folds = o->novelty_folds;
+    t.novelty_rule = o->novelty_rule;
     t.grid_splits = o->grid_splits;
     t.test_fraction = o->test_fraction;
     t.nested_repeats = o->nested_repeats;

@@ -82,7 +82,10 @@ class ClassifierModel {
   // files keep loading and computing their Euclidean figure.
   // 6: payload.novelty.calibration_folds (the per-class scores are cross-validated, not leave-one-out; an option,
   // novelty.hpp). Prediction computes the same figure. Models with leave-one-out scores are still written as 5.
-  static constexpr int kFormatVersion = 6;
+  // 7: payload.novelty.rule = "predicted_class" (novelty.hpp NoveltyRule: the class the SVM predicts decides;
+  // issue 38); calibration_folds and whitening as format 6 (each only when used). Models with the nearest-class
+  // rule are written as before (5 or 6).
+  static constexpr int kFormatVersion = 7;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.

@@ -162,7 +162,6 @@ std::vector<FamilyScore> compare_feature_families(const std::vector<TrainingSamp
     if (family == own) continue;
     TrainOptions u = options;
     u.recipe.features.family = feature_family_from_name(family);
-    u.recipe.features.spectrum_count = 0;  // none of these three uses the spectrum
     u.progress = nullptr;
     if (on_family) on_family(family);
     rows.push_back(family_score(family, train_classifier(samples, u).report));

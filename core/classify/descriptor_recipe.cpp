@@ -33,11 +33,10 @@ void validate_recipe(const DescriptorRecipe& r, const std::string& code) {
   if (blocks.canonical_sh && r.features.l_min < 1)
     throw InvalidInputError(code, "recipe features use canonical SH coefficients from degree " +
                                       std::to_string(r.features.l_min) + "; degree 0 is the position, l_min must be >= 1");
-  if (blocks.spectrum != (r.features.spectrum_count > 0) || r.features.spectrum_count < 0 ||
-      r.features.spectrum_count > kMaxSpectrumCount)
+  if (r.features.spectrum_count < (blocks.spectrum ? 1 : 0) || r.features.spectrum_count > kMaxSpectrumCount)
     throw InvalidInputError(code, "recipe features.spectrum_count " + std::to_string(r.features.spectrum_count) + " for family " +
-                                      to_string(r.features.family) + (blocks.spectrum ? ": must be in 1.." + std::to_string(kMaxSpectrumCount)
-                                                                                      : ": must be 0 (the family has no spectrum)"));
+                                      to_string(r.features.family) + ": must be in " + (blocks.spectrum ? "1" : "0") + ".." +
+                                      std::to_string(kMaxSpectrumCount));
 }
 
 RecipeConformance check_recipe(const DescriptorRecipe& recipe, const SphericalMapResult& map) {

@@ -9,6 +9,7 @@
 
 #include <string>
 
+#include "core/classify/laplace_spectrum.hpp"
 #include "core/sh/sh_descriptor.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 
@@ -51,9 +52,9 @@ struct FeatureSpec {
   ScaleNormalization scale = ScaleNormalization::None;
   bool log_transform = false;               // log(x) of the (normalised) energies
   bool global_scale_free = false;           // Global/Combined: only the scale-free global descriptors
-  // Families with the spectrum: how many Laplace-Beltrami eigenvalues (lb_1..lb_n); 0 for the others (recipe
-  // version 4; validate_recipe checks both ways).
-  int spectrum_count = 0;
+  // Families with the spectrum: how many Laplace-Beltrami eigenvalues (lb_1..lb_n); unused by the others.
+  // Recipe version 4; files of older versions read the legacy 0 (no spectrum).
+  int spectrum_count = kDefaultSpectrumCount;
   bool operator==(const FeatureSpec&) const = default;
 };
 
@@ -103,7 +104,7 @@ struct DescriptorRecipe {
 int recipe_version_of(const DescriptorRecipe& recipe);
 
 // Throws InvalidInputError(code, ...) when the parts disagree (features use xi(l) above sh.lmax, bad l range, a
-// spectrum count for a family without the spectrum or none for one with it).
+// spectrum count out of range, or none for a family with the spectrum).
 void validate_recipe(const DescriptorRecipe& recipe, const std::string& code = "invalid_recipe");
 
 // The flow step cap of the recipe's map method (what a request's `steps` is compared with; the linear map has

@@ -10,7 +10,7 @@
 //      legacy value but without a bump), map.area_correction (the bump).
 //   3  map.chain_budget_seconds, map.linear_reserve_seconds, map.cmcf.stall_patience (added 2026-12-02 without a
 //      bump, so a version-2 build read such files with its own defaults; issue 27).
-//   4  features.spectrum_count and the feature families spectrum, spectrum_global, canonical_sh,
+//   4  features.spectrum_count (legacy 0: no spectrum) and the feature families spectrum, spectrum_global, canonical_sh,
 //      canonical_sh_global, all (issue 38): a file with one of those families is of version 4 whatever its fields
 //      (feature_family_version), so an older reader refuses it by number.
 // Retired: map.min_fallback_flow_seconds (in version-2 files of 2026-12-02; 0 is what this build computes).

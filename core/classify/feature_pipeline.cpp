@@ -30,7 +30,7 @@ void validate_feature_spec(const FeatureSpec& spec) {
   const FamilyBlocks blocks = family_blocks(spec.family);
   if (blocks.canonical_sh && spec.l_min < 1)
     throw InvalidInputError("feature_spec", "canonical SH coefficients start at degree 1, l_min is " + std::to_string(spec.l_min));
-  if (blocks.spectrum != (spec.spectrum_count > 0) || spec.spectrum_count > kMaxSpectrumCount)
+  if (spec.spectrum_count < (blocks.spectrum ? 1 : 0) || spec.spectrum_count > kMaxSpectrumCount)
     throw InvalidInputError("feature_spec", "spectrum_count " + std::to_string(spec.spectrum_count) + " for family " +
                                                 to_string(spec.family));
   if (blocks.invariants || blocks.canonical_sh) {

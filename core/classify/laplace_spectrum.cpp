@@ -1,5 +1,6 @@
 #include "core/classify/laplace_spectrum.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -25,6 +26,9 @@ LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
   const Eigen::VectorXd mass = op.mass * (4 * std::numbers::pi / area);
   linalg::GeneralizedEigenOptions options;
   options.count = count + 1;
+  // A wide block: the last wanted eigenvalue converges at the rate (λ_count + 1) / (λ_block + 1), slow when the
+  // block ends just above it (measured on the demo meshes: count + 8 did not reach 1e-9 in 40 cycles at count 30).
+  options.extra_columns = std::max(8, count / 2);
   const linalg::GeneralizedEigenResult eig = linalg::smallest_generalized_eigenpairs(op.laplacian, mass, options);
   if (eig.status != linalg::EigenStatus::Converged)
     throw WishError(ErrorCategory::Internal, "spectrum_failed",

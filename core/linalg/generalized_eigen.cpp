@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <Eigen/Eigenvalues>
@@ -167,8 +168,10 @@ GeneralizedEigenResult smallest_generalized_eigenpairs(const Eigen::SparseMatrix
     }
   }
   result.status = EigenStatus::NotConverged;
-  result.message = "largest relative residual " + std::to_string(result.residuals.maxCoeff()) + " after " +
-                   std::to_string(options.max_cycles) + " cycles (tolerance " + std::to_string(options.tolerance) + ")";
+  char text[160];
+  std::snprintf(text, sizeof text, "largest relative residual %.3g after %d cycles (tolerance %.3g)",
+                result.residuals.maxCoeff(), options.max_cycles, options.tolerance);
+  result.message = text;
   return result;
 }
 

@@ -25,9 +25,9 @@ struct GeneralizedEigenOptions {
   int count = 10;              // eigenpairs wanted (the smallest), >= 1
   double shift = 1.0;          // A = L + shift·M (> 0; in the units of λ)
   int extra_columns = 8;       // block size = count + extra_columns (guards multiplicity up to that)
-  int krylov_blocks = 3;       // s: blocks per Krylov basis (basis size s·block)
-  int max_cycles = 40;         // restarts before giving up (status NotConverged)
-  double tolerance = 1e-9;     // relative residual, see above
+  int krylov_blocks = 4;       // s: blocks per Krylov basis (basis size s·block)
+  int max_cycles = 60;         // restarts before giving up (status NotConverged)
+  double tolerance = 1e-8;     // relative residual, see above
   unsigned seed = 1;           // the random start block (deterministic)
 };
 

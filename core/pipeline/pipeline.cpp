@@ -100,7 +100,8 @@ PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptio
   base.map.prefer_method = recipe.off_recipe == OffRecipePolicy::Refuse;  // another method's map would be refused
   base.sh = recipe.sh;
   base.compute_global_features = base.compute_global_features || recipe.needs_global_features();
-  base.laplace_spectrum_count = std::max(base.laplace_spectrum_count, recipe.features.spectrum_count);
+  if (recipe.needs_laplace_spectrum())
+    base.laplace_spectrum_count = std::max(base.laplace_spectrum_count, recipe.features.spectrum_count);
   base.compute_canonical_sh = base.compute_canonical_sh || recipe.needs_canonical_sh();
   return base;
 }

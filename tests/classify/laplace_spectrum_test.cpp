@@ -43,31 +43,31 @@ Mesh uv_sphere(int rings, int segments) {
 }
 
 TEST(LaplaceSpectrum, UnitSphereHasLTimesLPlusOneWithMultiplicity) {
-  const Mesh sphere = make_icosphere(4);  // 2,562 vertices
-  const LaplaceSpectrum s = laplace_spectrum(sphere, 24);  // l = 1..4: 3 + 5 + 7 + 9 values
+  const Mesh sphere = make_icosphere(3);  // 642 vertices
+  const LaplaceSpectrum s = laplace_spectrum(sphere, 15);  // l = 1..3: 3 + 5 + 7 values
   std::printf("zero mode %.2e, residual %.2e, %d cycles; lambda:", s.zero_mode, s.max_residual, s.cycles);
   for (Eigen::Index i = 0; i < s.values.size(); ++i) std::printf(" %.4f", s.values(i));
   std::printf("\n");
   EXPECT_NEAR(s.zero_mode, 0.0, 1e-8);
   int i = 0;
-  for (int l = 1; l <= 4; ++l)
+  for (int l = 1; l <= 3; ++l)
     for (int m = 0; m < 2 * l + 1; ++m, ++i) {
-      // The discretisation error of the cotan Laplacian on a level-4 icosphere grows with l (measured: 0.1 % at
-      // l = 1, 1 % at l = 4); the clusters stay separate.
-      EXPECT_NEAR(s.values(i), l * (l + 1), 0.02 * l * (l + 1)) << "l " << l << " m " << m;
+      // The discretisation error of the cotan Laplacian grows with l and shrinks with the level (measured on level
+      // 4: 0.1 % at l = 1, 0.5 % at l = 3, 0.8 % at l = 4; level 3 is coarser); the clusters stay separate.
+      EXPECT_NEAR(s.values(i), l * (l + 1), 0.03 * l * (l + 1)) << "l " << l << " m " << m;
     }
 }
 
 TEST(LaplaceSpectrum, ScaleAndRigidMotionLeaveItUnchanged) {
-  Mesh m = make_icosphere(3);
+  Mesh m = make_icosphere(2);
   for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {  // an ellipsoid: no degenerate clusters to mix
     m.vertices(i, 0) *= 1.6;
     m.vertices(i, 2) *= 0.7;
   }
-  const LaplaceSpectrum base = laplace_spectrum(m, 12);
+  const LaplaceSpectrum base = laplace_spectrum(m, 8);
   Mesh scaled = m;
   scaled.vertices = (7.25 * m.vertices).rowwise() + Eigen::RowVector3d(1, -2, 3);
-  const LaplaceSpectrum s = laplace_spectrum(scaled, 12);
+  const LaplaceSpectrum s = laplace_spectrum(scaled, 8);
   EXPECT_LT((s.values - base.values).cwiseAbs().maxCoeff(), 1e-7 * base.values.maxCoeff());
 }
 
@@ -75,12 +75,12 @@ TEST(LaplaceSpectrum, IsometricBendingLeavesItUnchanged) {
   // The cap of a sphere above a ring of vertices, reflected through the ring's plane, folds the sphere into a
   // dimpled one: every edge keeps its length (the cap moves rigidly, the ring stays), so the metric — and the
   // spectrum — are those of the sphere, while the shape in space is another (its volume drops by a third here).
-  const Mesh sphere = uv_sphere(23, 48);
+  const Mesh sphere = uv_sphere(15, 32);
   Mesh dimpled = sphere;
-  const double plane = sphere.vertices(1 + 5 * 48, 2);  // ring 6, z = cos(6π/24)
+  const double plane = sphere.vertices(1 + 3 * 32, 2);  // ring 4, z = cos(4π/16)
   for (Eigen::Index i = 0; i < dimpled.vertex_count(); ++i)
     if (dimpled.vertices(i, 2) > plane + 1e-12) dimpled.vertices(i, 2) = 2 * plane - dimpled.vertices(i, 2);
-  const LaplaceSpectrum a = laplace_spectrum(sphere, 15), b = laplace_spectrum(dimpled, 15);
+  const LaplaceSpectrum a = laplace_spectrum(sphere, 8), b = laplace_spectrum(dimpled, 8);
   std::printf("sphere lambda_1..3 %.5f %.5f %.5f, dimpled %.5f %.5f %.5f\n", a.values(0), a.values(1), a.values(2),
               b.values(0), b.values(1), b.values(2));
   EXPECT_LT((a.values - b.values).cwiseAbs().maxCoeff(), 1e-6 * a.values.maxCoeff());
@@ -92,7 +92,7 @@ TEST(LaplaceSpectrum, RefusesBadCountsAndTinyMeshes) {
   const Mesh m = make_icosphere(1);  // 42 vertices
   EXPECT_THROW(laplace_spectrum(m, 0), InvalidInputError);
   EXPECT_THROW(laplace_spectrum(m, kMaxSpectrumCount + 1), InvalidInputError);
-  EXPECT_THROW(laplace_spectrum(m, 41), InvalidInputError);
+  EXPECT_THROW(laplace_spectrum(m, 42), InvalidInputError);
   EXPECT_EQ(laplace_spectrum(m, 10).values.size(), 10);
 }
 

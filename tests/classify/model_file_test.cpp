@@ -226,10 +226,10 @@ TEST(ModelFile, RefusesUnknownKeysAnywhereNamingThem) {
 // while a version-2 file without a version-3 field takes the field's legacy value (how version-2 builds computed).
 TEST(ModelFile, RecipeVersionsOldAndNew) {
   const auto doc = nlohmann::json::parse(trained().to_json_text());
-  ASSERT_EQ(doc["payload"]["recipe"]["recipe_version"], 3);
+  ASSERT_EQ(doc["payload"]["recipe"]["recipe_version"], 4);
   {
     auto d = doc;
-    d["payload"]["recipe"]["recipe_version"] = 4;
+    d["payload"]["recipe"]["recipe_version"] = 5;
     expect_refused(reseal(d), "model_version", "written by a newer wish");
   }
   auto d = doc;
@@ -237,9 +237,11 @@ TEST(ModelFile, RecipeVersionsOldAndNew) {
   expect_refused(reseal(d), "model_invalid", "missing field payload.recipe.map.cmcf.stall_patience");
   d["payload"]["recipe"]["recipe_version"] = 2;
   d["payload"]["recipe"]["map"].erase("chain_budget_seconds");
+  d["payload"]["recipe"]["features"].erase("spectrum_count");
   const ClassifierModel v2 = ClassifierModel::from_json_text(reseal(d));
   EXPECT_EQ(v2.recipe().map.cmcf.stall_patience, 1);
   EXPECT_EQ(v2.recipe().map.chain_budget_seconds, 0.0);
+  EXPECT_EQ(v2.recipe().features.spectrum_count, 0);
   EXPECT_EQ(v2.recipe().map.linear_reserve_seconds, trained().recipe().map.linear_reserve_seconds);  // as stated
   // Written again, its version is computed from its fields: linear_reserve_seconds is a version-3 field away from
   // its legacy value 0.
