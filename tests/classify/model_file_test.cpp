@@ -578,3 +578,47 @@ TEST(ClassifierModel, PredictionRefusesMissingFeatures) {
 
 }  // namespace
 }  // namespace wish
+
+namespace wish {
+namespace {
+
+// Issue 38: the predicted-class rule is format 7 (payload.novelty.rule), a format-6 reader refuses it by its key,
+// and a prediction says why: one ratio per class, the reported class's ratio is score / threshold.
+TEST(ModelFile, PredictedClassNoveltyRuleIsVersion7AndSaysWhy) {
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  opts.novelty_rule = NoveltyRule::PredictedClass;
+  const ClassifierModel model = train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+  const auto doc = nlohmann::json::parse(model.to_json_text());
+  EXPECT_EQ(doc["format_version"], 7);
+  EXPECT_EQ(doc["payload"]["novelty"]["rule"], "predicted_class");
+  const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
+  EXPECT_EQ(loaded.novelty_calibration()->rule, NoveltyRule::PredictedClass);
+  EXPECT_EQ(loaded.to_json_text(), model.to_json_text());
+  for (const auto& s : testing::synthetic_samples(3, 4, 5)) {
+    const Prediction p = loaded.predict(s.features);
+    ASSERT_TRUE(p.novelty);
+    ASSERT_EQ(p.novelty->class_ratios.size(), 3u);
+    // The reported class is the predicted one, and its ratio is its score over its threshold.
+    EXPECT_EQ(model.classes()[static_cast<std::size_t>(p.novelty->group)], p.label);
+    EXPECT_NEAR(p.novelty->class_ratios[static_cast<std::size_t>(p.novelty->group)], p.novelty->score / p.novelty->threshold, 1e-12);
+    EXPECT_EQ(p.novelty->novel, p.novelty->score > p.novelty->threshold);
+    // The nearest-class rule on the same calibration reports the smallest ratio.
+    const Prediction q = trained().predict(s.features);
+    const auto& r = q.novelty->class_ratios;
+    EXPECT_EQ(r[static_cast<std::size_t>(q.novelty->group)], *std::min_element(r.begin(), r.end()));
+  }
+  {
+    auto d = doc;
+    d["format_version"] = 6;
+    expect_refused(reseal(d), "model_version", "payload.novelty.rule");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["rule"] = "loudest_class";
+    expect_refused(reseal(d), "model_invalid", "novelty.rule");
+  }
+}
+
+}  // namespace
+}  // namespace wish
