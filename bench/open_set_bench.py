@@ -28,6 +28,7 @@ Every score is "larger = more novel". Scores:
   gauss_pred  the same, for the class the SVM predicts only
   maxprob     1 - the SVM's largest Platt probability
   margin      minus the SVM's decision-value margin of the winner over the runner-up
+  knn_gauss   the mean of knn_min and gauss_pred (both in units of a class's spread)
   combo       the conformal p-values of gauss_pred and maxprob against known rows held out inside the training
               rows (5 inner folds), combined by the smaller of the two (score: -log of it)
 Accuracy (--mode accuracy): nested CV (outer 5 folds, inner grid C 1e-1..1e5 x gamma/d 1e-3..1e1 over 3 folds),
@@ -226,7 +227,7 @@ def fold_scores(Ztr, ytr, P, names, seed):
     pi = np.array([cls.index(c) for c in pred])
     rows = np.arange(len(P))
     need_knn = any(n.startswith("knn") for n in names)
-    need_gauss = any(n.startswith("gauss") or n == "combo" for n in names)
+    need_gauss = any(n.startswith("gauss") or n in ("combo", "knn_gauss") for n in names)
     if need_knn:
         kr = KnnScore(Ztr, ytr, q=0.99).ratios(P)
         out["knn_min"] = kr.min(1)
@@ -240,6 +241,8 @@ def fold_scores(Ztr, ytr, P, names, seed):
         gr = gs.ratios(P)
         out["gauss_min"] = gr.min(1)
         out["gauss_pred"] = gr[rows, pi]
+    if need_knn and need_gauss:  # both in units of the class's spread: their mean, a simple combination
+        out["knn_gauss"] = 0.5 * (out["knn_min"] + out["gauss_pred"])
     out["maxprob"] = 1 - prob.max(1)
     out["margin"] = -margin
     if "combo" in names:
