@@ -16,7 +16,7 @@ LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
     throw InvalidInputError("invalid_parameter", "the Laplace-Beltrami spectrum takes 1.." + std::to_string(kMaxSpectrumCount) +
                                                      " eigenvalues, asked for " + std::to_string(count));
   if (mesh.vertex_count() < count + 1)
-    throw InvalidInputError("too_small", "the Laplace-Beltrami spectrum of " + std::to_string(count) + " eigenvalues needs at least " +
+    throw WishError(ErrorCategory::Unmappable, "too_small", "the Laplace-Beltrami spectrum of " + std::to_string(count) + " eigenvalues needs at least " +
                                              std::to_string(count + 1) + " vertices, the mesh has " +
                                              std::to_string(mesh.vertex_count()));
   const geometry::IntrinsicOperator op = geometry::intrinsic_operator(mesh.vertices, mesh.faces);

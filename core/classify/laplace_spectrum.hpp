@@ -29,7 +29,7 @@ struct LaplaceSpectrum {
   int cycles = 0;             // Krylov restart cycles
 };
 
-// count in 1..kMaxSpectrumCount. Throws InvalidInputError("invalid_parameter") for a bad count, ("too_small") for
+// count in 1..kMaxSpectrumCount. Throws InvalidInputError("invalid_parameter") for a bad count, WishError(Unmappable, "too_small") for
 // a mesh of fewer vertices than count + 1, WishError(Internal, "spectrum_failed") when the factorisation fails or
 // the eigenpairs do not converge (the message has the residual).
 LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count = kDefaultSpectrumCount);
