@@ -217,6 +217,7 @@ CommandRunner setup_predict(CLI::App& sub) {
     } else if (o->csv) {
       std::cout << "file,label_id,label,margin,novel,novelty_score,novelty_p_value";
       for (const auto& c : classes) std::cout << ",p_" << c;
+      std::cout << ",novelty_nearest_class,novelty_distance_ratio";
       std::cout << "\n" << std::setprecision(10);
       for (const auto& r : results) {
         if (r.contains("error")) continue;
@@ -232,6 +233,10 @@ CommandRunner setup_predict(CLI::App& sub) {
           std::cout << ",,";
         }
         for (const auto& c : classes) std::cout << "," << probability_of(r, c);
+        // Why: the class the sample is most like and its distance in units of that class's spread (empty without).
+        const bool why = r.contains("novelty") && r["novelty"].contains("nearest_class");
+        std::cout << "," << (why ? csv_field(r["novelty"]["nearest_class"].get<std::string>()) : "") << ",";
+        if (why) std::cout << wire::json_number_or_nan(r["novelty"]["distance_ratio"]);
         std::cout << "\n";
       }
     } else {
@@ -244,8 +249,14 @@ CommandRunner setup_predict(CLI::App& sub) {
         std::cout.unsetf(std::ios::fixed);
         std::cout << ")";
         if (r["novel"].is_boolean() && r["novel"].get<bool>())
+        {
           std::cout << "  [NOVEL: unlike the training set (p = " << std::setprecision(3)
-                    << r["novelty"]["p_value"].get<double>() << "), none of the known types?]";
+                    << r["novelty"]["p_value"].get<double>() << ")";
+          if (r["novelty"].contains("nearest_class"))
+            std::cout << "; nearest class " << r["novelty"]["nearest_class"].get<std::string>() << " at "
+                      << std::setprecision(3) << wire::json_number_or_nan(r["novelty"]["distance_ratio"]) << "x its spread";
+          std::cout << ", none of the known types?]";
+        }
         if (r.contains("recipe_match") && !r["recipe_match"].get<bool>())
           std::cout << "  [off-recipe: map by " << r["method_used"].get<std::string>() << ", model's recipe "
                     << to_string(model.recipe().map.method) << "]";

@@ -32,6 +32,7 @@
 #include "core/classify/dataset.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/laplace_spectrum.hpp"
 #include "core/classify/recipe_names.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/training.hpp"
@@ -60,11 +61,13 @@ struct TrainCliOptions {
   int lmax = 10;
   FeatureFamily features = FeatureFamily::Invariants;
   ScaleNormalization scale = ScaleNormalization::None;
+  int spectrum_count = kDefaultSpectrumCount;
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   bool early_stop = true;
   SearchMethod search = SearchMethod::Auto;
   double novelty_quantile = 0.99;
   int novelty_folds = 0;
+  NoveltyRule novelty_rule = NoveltyRule::NearestClass;
   std::uint64_t seed = 42;
   int jobs = 0;
   MapMethod method = MapMethod::Cmcf;
@@ -95,6 +98,9 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
       ->check(CLI::Range(1, 100))->capture_default_str();
   add_enum_option(sub, "--features", o->features, kFeatureFamilyNames, "Feature family");
+  sub.add_option("--spectrum-count", o->spectrum_count,
+                 "Families with the spectrum: how many Laplace-Beltrami eigenvalues (ShapeDNA)")
+      ->check(CLI::Range(1, kMaxSpectrumCount))->capture_default_str();
   add_enum_option(sub, "--scale", o->scale, kScaleNormalizationNames,
                   "Scale normalisation of xi: none, xi(l)/xi(1) or xi(l)/surface area");
   sub.add_flag("--log,!--no-log", o->log, "log of the (normalised) energies (default on; --no-log: off)");
@@ -139,6 +145,9 @@ CommandRunner setup_train(CLI::App& sub) {
                  "The model's default novelty threshold: per class, this quantile of the class's leave-one-out (or "
                  "--novelty-folds cross-validated) k-NN distances (a prediction above every class's says novel: true; predict/serve may override)")
       ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
+  add_enum_option(sub, "--novelty-rule", o->novelty_rule, kNoveltyRuleNames,
+                  "Which class's threshold flags a sample novel: every class's (nearest_class, model format 5/6) or the "
+                  "class the SVM predicts (predicted_class, format 7); docs/benchmarks.md \"Novelty, issue 38\"");
   sub.add_option("--novelty-folds", o->novelty_folds,
                  "Novelty calibration scores: 0 leave-one-out (model format 5), N >= 2 N-fold cross-validated (format 6: "
                  "the quantile's false-flag rate holds more closely, fewer new types flagged; docs/benchmarks.md \"Novelty\")")
@@ -171,6 +180,7 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.features.scale = o->scale;
     recipe.features.log_transform = o->log;
     recipe.features.global_scale_free = o->global_scale_free;
+    recipe.features.spectrum_count = o->spectrum_count;
     recipe.off_recipe = o->off_recipe;
 
     std::vector<TrainingSample> samples;
@@ -247,6 +257,7 @@ CommandRunner setup_train(CLI::App& sub) {
     t.scale.search = o->search;
     t.novelty_quantile = o->novelty_quantile;
     t.novelty_folds = o->novelty_folds;
+    t.novelty_rule = o->novelty_rule;
     t.grid_splits = o->grid_splits;
     t.test_fraction = o->test_fraction;
     t.nested_repeats = o->nested_repeats;

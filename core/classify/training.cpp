@@ -287,6 +287,7 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
                                              options.novelty_distance, options.novelty_folds, options.seed)
                          : calibrate_novelty(Xs_train, y_train, options.novelty_k, options.novelty_quantile,
                                              options.novelty_distance, options.novelty_folds, options.seed);
+    state->novelty->rule = options.novelty_rule;
     for (int c = 0; c < k; ++c)
       rep.novelty_class_thresholds.push_back(novelty_threshold(*state->novelty, options.novelty_quantile, c));
     rep.novelty_threshold = *std::max_element(rep.novelty_class_thresholds.begin(), rep.novelty_class_thresholds.end());
@@ -294,7 +295,8 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
     rep.novelty_folds = state->novelty->calibration_folds;
     if (!options.refit_on_all)  // the test split is new to this model: how many of the known types it flags
       for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) {
-        const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose());
+        const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose(), 0,
+                                                   state->svm.predict(Xs_test.row(i).transpose()).label);
         rep.test_novelty.push_back(a.score);
         rep.test_novel.push_back(a.novel);
       }

@@ -47,6 +47,7 @@ struct TrainOptions {
   double novelty_quantile = 0.99;  // the model's default threshold quantile
   NoveltyDistance novelty_distance = NoveltyDistance::Whitened;  // format 5; Euclidean: format 4's figure
   int novelty_folds = 0;           // 0: leave-one-out calibration scores (format 5); >= 2: cross-validated (format 6)
+  NoveltyRule novelty_rule = NoveltyRule::NearestClass;  // PredictedClass: model format 7 (novelty.hpp)
   std::uint64_t seed = 42;
   // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
   // class loses more than loss_policy.max_class_loss of its meshes (training_losses.hpp).

@@ -30,8 +30,7 @@ TrainingSample sample_of(const PipelineResult& r, const DescriptorRecipe& recipe
   s.off_recipe = !conformance.match;
   s.id = id;
   s.label = label;
-  s.features.invariants = r.sh.invariants;
-  s.features.global = r.features.global;
+  s.features = r.features;
   return s;
 }
 
