@@ -180,7 +180,9 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.features.scale = o->scale;
     recipe.features.log_transform = o->log;
     recipe.features.global_scale_free = o->global_scale_free;
-    recipe.features.spectrum_count = o->spectrum_count;
+    // Only a family with the spectrum has a count: any other keeps the legacy 0 (no spectrum), so its model file is
+    // the recipe version it was before issue 38 (descriptor_recipe_codec.hpp) and equal to the bundled model's.
+    recipe.features.spectrum_count = family_blocks(o->features).spectrum ? o->spectrum_count : 0;
     recipe.off_recipe = o->off_recipe;
 
     std::vector<TrainingSample> samples;
