@@ -75,8 +75,10 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
   for (auto& [gi, positions] : by_gamma) {
     std::stable_sort(positions.begin(), positions.end(),
                      [&](int a, int b) { return r.Cs[cells[a] / ng] < r.Cs[cells[b] / ng]; });
+    // A copy for the fits' lambda: clang 14 (the sanitizer build) cannot capture a structured binding (C++20 P1091).
+    const double gamma = r.gammas[gi];
     std::optional<PrecomputedKernel> kernel;
-    if (precomputed) kernel.emplace(D, r.gammas[gi]);
+    if (precomputed) kernel.emplace(D, gamma);
     EarlyStopRow rule(grid.early_stop_drop, grid.early_stop_patience);
     bool stopped = false;
     for (int p : positions) {
@@ -88,7 +90,7 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
         const double start = CpuBudget::thread_cpu_seconds();
         SvmParams params;
         params.C = r.Cs[cells[p] / ng];
-        params.gamma = r.gammas[gi];
+        params.gamma = gamma;
         params.probability = false;  // accuracy needs votes only; no rand(), so fits run concurrently
         const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, static_cast<std::size_t>(s), yr, params);
         accuracy[s] = static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size());
