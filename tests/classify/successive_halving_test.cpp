@@ -74,7 +74,9 @@ TEST(SuccessiveHalving, OneRungIsTheFullGridOnTheSameSplits) {
     for (Eigen::Index j = 0; j < grid.mean_score.cols(); ++j) {
       const bool skipped = std::isnan(grid.mean_score(i, j));
       EXPECT_EQ(std::isnan(halving.mean_score(i, j)), skipped) << i << ", " << j;
-      if (!skipped) EXPECT_NEAR(halving.mean_score(i, j), grid.mean_score(i, j), 1e-12) << i << ", " << j;
+      if (!skipped) {
+        EXPECT_NEAR(halving.mean_score(i, j), grid.mean_score(i, j), 1e-12) << i << ", " << j;
+      }
       EXPECT_EQ(halving.cell_rung(i, j), skipped ? -1 : 0);
     }
   EXPECT_EQ(halving.best_c, grid.best_c);
@@ -121,7 +123,9 @@ TEST(SuccessiveHalving, PromotesExactlyTheBestThirdOfEachRung) {
   EXPECT_EQ(r.cell_rung(r.best_c, r.best_gamma), 2);
   for (Eigen::Index i = 0; i < r.mean_score.rows(); ++i)
     for (Eigen::Index j = 0; j < r.mean_score.cols(); ++j)
-      if (r.cell_rung(i, j) == 2) EXPECT_LE(r.mean_score(i, j), r.best_score);
+      if (r.cell_rung(i, j) == 2) {
+        EXPECT_LE(r.mean_score(i, j), r.best_score);
+      }
 }
 
 TEST(SuccessiveHalving, SameAnswerOnAnyThreadCountAndKernel) {
