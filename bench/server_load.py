@@ -1,203 +1,378 @@
 #!/usr/bin/python3
-"""Load run of `wish serve`: POST /v1/describe (or /v1/classify) of one mesh at concurrency 1, 2, 4, 8.
+"""The service at its CPU bound: `wish serve` on N workers, POST /v1/classify of a mesh at 1, 2, 8, 64 concurrent
+clients, against the bound cores / (server CPU seconds per request, measured alone).
 
-Prints per concurrency: throughput (req/s), p50/p95/p99 latency, errors, server RSS (min/max during the run), and
-the single-request pipeline time (timings.total reported by the server, median over the concurrency-1 run) plus
-the target of issue 6: throughput at concurrency = cores >= 0.9 * cores / single-request time; p99 < 2 x p50.
+For each mesh (the NeuroMorphoVis nucleus, ~10.8K vertices, and the same nucleus midpoint-subdivided twice, ~172K
+vertices, made here and written as binary PLY into a temporary folder: never committed) a fresh server is started
+on 127.0.0.1 with --workers W and --queue-size Q, then:
 
-  /usr/bin/python3 bench/server_load.py --wish build/server/cli/wish --mesh ../shared/data/cgal/genus0_closed/bear_bis.off \
-      --duration 20 [--route /v1/classify --models data/models] [--soak 300] [--client wrk] [--rounds 3]
+  alone    S sequential requests: the server's CPU seconds per request (utime + stime of the process, from
+           /proc/PID/stat, over the S requests) and the median latency. bound = min(cores, workers) / CPU s per request.
+  levels   for each concurrency C: exactly M requests (bounded count; M a multiple of C and of W, so no worker idles
+           at the end for want of work), C client threads taking them from a shared counter. A 503 must carry
+           Retry-After; the client waits that long and sends the same request again (counted, not lost). Any other
+           answer, a 503 without Retry-After or a socket error is a lost request. Each level is also bounded in time
+           (--level-timeout): past it the clients stop and the level is reported as cut short.
+           Reported: throughput (M / wall time of the level) and its share of the bound; p50 / p99 latency of the
+           answered requests (the last attempt: queue wait included); 503s; lost; server CPU seconds per answered
+           request and CPU use (share of the cores); peak RSS and threads sampled every 0.1 s; the load generator's
+           own CPU share (it shares the cores with the server). The server's own counters
+           (wish_http_requests_total) are checked against what the clients saw: a request the client counts as
+           answered 200 or 503 must be in the server's counts, and nothing else.
+
+  /usr/bin/python3 bench/server_load.py [--wish build/release/cli/wish] [--levels 1,2,8,64] [--workers 2]
+      [--queue-size 32] [--meshes nucleus,subdivided] [--soak 300]
+
+--soak S: afterwards, S seconds at concurrency W on the first mesh with the RSS peak per minute (a memory leak
+shows as a rising peak). Everything runs on 127.0.0.1; the server is stopped by its pid.
 """
 import argparse
 import http.client
 import json
+import math
 import os
 import re
 import statistics
+import struct
 import subprocess
 import sys
 import tempfile
 import threading
 import time
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+NUCLEUS = os.path.join(ROOT, "..", "shared", "data", "nmv_nuclei", "nuclei-meshes", "hq", "nucleus-1.obj")
+CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
-def rss_kib(pid):
+
+# ---- meshes -------------------------------------------------------------------------------------------------------
+
+def read_obj(path):
+    vertices, faces = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                vertices.append(tuple(float(x) for x in line.split()[1:4]))
+            elif line.startswith("f "):
+                idx = [int(tok.split("/")[0]) for tok in line.split()[1:]]
+                idx = [i - 1 if i > 0 else len(vertices) + i for i in idx]
+                faces.extend((idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1))  # fan
+    return vertices, faces
+
+
+def midpoint_subdivide(vertices, faces):
+    """Each triangle into four through its edge midpoints: the same surface, about 4x the vertices (V + E)."""
+    vertices = list(vertices)
+    midpoint = {}
+
+    def mid(a, b):
+        key = (a, b) if a < b else (b, a)
+        m = midpoint.get(key)
+        if m is None:
+            p, q = vertices[a], vertices[b]
+            m = midpoint[key] = len(vertices)
+            vertices.append(((p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2))
+        return m
+
+    out = []
+    for a, b, c in faces:
+        ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+        out += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+    return vertices, out
+
+
+def binary_ply(vertices, faces):
+    header = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty double x\nproperty double y\n"
+              "property double z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n"
+              % (len(vertices), len(faces))).encode()
+    body = bytearray(header)
+    body += b"".join(struct.pack("<3d", *v) for v in vertices)
+    body += b"".join(struct.pack("<B3i", 3, *f) for f in faces)
+    return bytes(body)
+
+
+def make_meshes(names, nucleus_path, tmp):
+    """{name: (path, vertices)}: the nucleus as it is, its subdivision (twice) as binary PLY in tmp."""
+    vertices, faces = read_obj(nucleus_path)
+    meshes = {}
+    if "nucleus" in names:
+        meshes["nucleus"] = (nucleus_path, len(vertices))
+    if "subdivided" in names:
+        for _ in range(2):
+            vertices, faces = midpoint_subdivide(vertices, faces)
+        path = os.path.join(tmp, "nucleus-1-subdivided-x2.ply")
+        with open(path, "wb") as f:
+            f.write(binary_ply(vertices, faces))
+        meshes["subdivided"] = (path, len(vertices))
+    return meshes
+
+
+# ---- the server process -------------------------------------------------------------------------------------------
+
+def cpu_seconds(pid):
+    """utime + stime of a process, seconds (all its threads)."""
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
+
+
+def status_fields(pid):
+    out = {}
     with open("/proc/%d/status" % pid) as f:
         for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1])
-    return 0
+            key, _, value = line.partition(":")
+            if key in ("VmRSS", "VmHWM", "Threads"):
+                out[key] = int(value.split()[0])
+    return out
 
 
-def percentile(values, q):
-    s = sorted(values)
-    if not s:
-        return float("nan")
-    k = min(len(s) - 1, max(0, int(round(q * (len(s) - 1)))))
-    return s[k]
+class Server:
+    def __init__(self, wish, models, workers, queue_size, tmp):
+        self.log_path = os.path.join(tmp, "server-%d.log" % time.time_ns())
+        self.log = open(self.log_path, "wb")
+        # `wish serve ...` or the service executable itself (`wish-server ...`: what `wish serve` runs).
+        command = [wish] if os.path.basename(wish) == "wish-server" else [wish, "serve"]
+        self.proc = subprocess.Popen(command + ["--models", models, "--host", "127.0.0.1", "--port", "0",
+                                                "--workers", str(workers), "--queue-size", str(queue_size)],
+                                     stdout=self.log, stderr=subprocess.STDOUT)
+        self.port = None
+        for _ in range(600):
+            m = re.search(r"listening on http://127\.0\.0\.1:(\d+)", open(self.log_path, errors="replace").read())
+            if m:
+                self.port = int(m.group(1))
+                break
+            if self.proc.poll() is not None:
+                break
+            time.sleep(0.05)
+        if self.port is None:
+            self.stop()
+            sys.exit("server did not start; log in " + self.log_path)
 
+    def cpu(self):
+        return cpu_seconds(self.proc.pid)
 
-def sample_rss(pid, running):
-    """Server RSS every 0.5 s while running() holds: min/max MiB and the (seconds, KiB) trace for the soak's drift."""
-    t0 = time.time()
-    trace = [(0.0, rss_kib(pid))]
-    while running():
-        trace.append((time.time() - t0, rss_kib(pid)))
-        time.sleep(0.5)
-    kib = [k for _, k in trace]
-    return {"rss_min_mib": min(kib) / 1024, "rss_max_mib": max(kib) / 1024, "rss_trace": trace}
-
-
-def run_level(port, route, mesh, concurrency, duration, pid):
-    latencies, totals, errors = [], [], []
-    lock = threading.Lock()
-    stop_at = time.time() + duration
-
-    def client():
-        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=300)
-        while time.time() < stop_at:
-            t = time.perf_counter()
-            conn.request("POST", route, body=mesh, headers={"Content-Type": "application/octet-stream"})
-            r = conn.getresponse()
-            body = r.read()
-            dt = time.perf_counter() - t
-            with lock:
-                if r.status == 200:
-                    latencies.append(dt)
-                    totals.append(json.loads(body)["timings"]["total"])
-                else:
-                    errors.append(r.status)
+    def status_counts(self, route):
+        """{status: count} of wish_http_requests_total for one route (the server's own view)."""
+        conn = http.client.HTTPConnection("127.0.0.1", self.port, timeout=30)
+        conn.request("GET", "/metrics")
+        text = conn.getresponse().read().decode()
         conn.close()
+        out = {}
+        for m in re.finditer(r'wish_http_requests_total\{route="([^"]*)",status="(\d+)"\} (\d+)', text):
+            if m.group(1) == route:
+                out[int(m.group(2))] = int(m.group(3))
+        return out
 
-    threads = [threading.Thread(target=client) for _ in range(concurrency)]
-    t0 = time.time()
-    for t in threads:
-        t.start()
-    rss = sample_rss(pid, lambda: any(t.is_alive() for t in threads))
-    for t in threads:
-        t.join()
-    elapsed = time.time() - t0
-    return {"concurrency": concurrency, "requests": len(latencies), "errors": len(errors),
-            "throughput": len(latencies) / elapsed, "p50": percentile(latencies, 0.5),
-            "p95": percentile(latencies, 0.95), "p99": percentile(latencies, 0.99),
-            "pipeline_median": statistics.median(totals) if totals else float("nan"), **rss}
+    def stop(self):
+        self.proc.terminate()
+        self.proc.wait(timeout=120)
+        self.log.close()
 
 
-def run_level_wrk(port, route, mesh_path, concurrency, duration, pid):
-    """One level driven by wrk (C, one thread): the load generator takes far less of the shared cores than Python."""
-    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "post_mesh.lua")
-    env = dict(os.environ, WISH_MESH=mesh_path)
-    cmd = ["wrk", "-t1", "-c%d" % concurrency, "-d%ds" % max(1, int(duration)), "--timeout", "300s", "-s", script,
-           "http://127.0.0.1:%d%s" % (port, route)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, text=True)
-    rss = sample_rss(pid, lambda: proc.poll() is None)
-    out = proc.stdout.read()
-    m = re.search(r"WRK requests=(\d+) errors=(\d+) duration_us=(\d+) p50=(\d+) p95=(\d+) p99=(\d+)", out)
-    if not m:
-        sys.exit("wrk gave no summary:\n" + out)
-    requests, errors, dur_us, p50, p95, p99 = (int(x) for x in m.groups())
-    ok = requests - errors
-    return {"concurrency": concurrency, "requests": ok, "errors": errors, "throughput": ok / (dur_us / 1e6),
-            "p50": p50 / 1e6, "p95": p95 / 1e6, "p99": p99 / 1e6, "pipeline_median": float("nan"), **rss}
+def post(conn, route, body):
+    conn.request("POST", route, body=body, headers={"Content-Type": "application/octet-stream"})
+    r = conn.getresponse()
+    return r.status, r.getheader("Retry-After"), r.read()
 
 
-def single_requests(port, route, mesh, count):
-    """Sequential requests on an otherwise idle server: the single-request time, server-side and end to end."""
-    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=300)
-    totals, latencies = [], []
+# ---- measurements -------------------------------------------------------------------------------------------------
+
+def alone(server, route, body, count):
+    """Sequential requests on an idle server: (CPU s per request, median latency s)."""
+    conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=600)
+    latencies = []
+    cpu0 = server.cpu()
     for _ in range(count):
         t = time.perf_counter()
-        conn.request("POST", route, body=mesh, headers={"Content-Type": "application/octet-stream"})
-        r = conn.getresponse()
-        body = r.read()
+        status, _, answer = post(conn, route, body)
         latencies.append(time.perf_counter() - t)
-        if r.status != 200:
-            sys.exit("single request failed with %d: %s" % (r.status, body[:300]))
-        totals.append(json.loads(body)["timings"]["total"])
+        if status != 200:
+            sys.exit("a request alone failed with %d: %s" % (status, answer[:300]))
+    cpu = (server.cpu() - cpu0) / count
     conn.close()
-    return statistics.median(totals), statistics.median(latencies)
+    return cpu, statistics.median(latencies)
+
+
+class Sampler:
+    """Peak RSS and thread count of the server every 0.1 s while running."""
+
+    def __init__(self, pid):
+        self.pid, self.rss_kib, self.threads, self.trace = pid, 0, 0, []
+        self.running = True
+        self.t0 = time.time()
+        self.thread = threading.Thread(target=self.run, daemon=True)
+        self.thread.start()
+
+    def run(self):
+        while self.running:
+            s = status_fields(self.pid)
+            self.rss_kib = max(self.rss_kib, s["VmRSS"])
+            self.threads = max(self.threads, s["Threads"])
+            self.trace.append((time.time() - self.t0, s["VmRSS"]))
+            time.sleep(0.1)
+
+    def stop(self):
+        self.running = False
+        self.thread.join()
+
+
+def run_level(server, route, body, clients, requests, timeout):
+    """`requests` requests by `clients` threads; 503 + Retry-After is waited out and sent again."""
+    lock = threading.Lock()
+    state = {"next": 0, "latencies": [], "rejected": 0, "lost": [], "answered": 0}
+    deadline = time.time() + timeout
+
+    def client():
+        conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=timeout)
+        while True:
+            with lock:
+                if state["next"] >= requests or time.time() > deadline:
+                    break
+                state["next"] += 1
+            while True:
+                t = time.perf_counter()
+                try:
+                    status, retry_after, _ = post(conn, route, body)
+                except (OSError, http.client.HTTPException) as e:
+                    with lock:
+                        state["lost"].append(type(e).__name__)
+                    conn.close()
+                    break
+                dt = time.perf_counter() - t
+                if status == 503 and retry_after is not None and time.time() < deadline:
+                    with lock:
+                        state["rejected"] += 1
+                    time.sleep(float(retry_after))
+                    continue
+                with lock:
+                    if status == 200:
+                        state["latencies"].append(dt)
+                        state["answered"] += 1
+                    elif status == 503 and retry_after is not None:
+                        state["lost"].append("503 after the level's time limit")
+                    else:
+                        state["lost"].append("%d%s" % (status, " without Retry-After" if status == 503 else ""))
+                break
+        conn.close()
+
+    counts0 = server.status_counts(route)
+    sampler = Sampler(server.proc.pid)
+    cpu0, own0 = server.cpu(), os.times()
+    t0 = time.perf_counter()
+    threads = [threading.Thread(target=client) for _ in range(clients)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    wall = time.perf_counter() - t0
+    cpu, own1 = server.cpu() - cpu0, os.times()
+    sampler.stop()
+    counts1 = server.status_counts(route)
+    seen = {s: counts1.get(s, 0) - counts0.get(s, 0) for s in set(counts0) | set(counts1)}
+    seen = {s: n for s, n in seen.items() if n}
+    expected = {200: state["answered"], 503: state["rejected"]}
+    expected = {s: n for s, n in expected.items() if n}
+    lat = sorted(state["latencies"])
+    return {"clients": clients, "requests": requests, "answered": state["answered"], "rejected": state["rejected"],
+            "lost": state["lost"], "cut_short": state["answered"] + len(state["lost"]) < requests, "wall": wall,
+            "throughput": state["answered"] / wall, "p50": percentile(lat, 0.50), "p99": percentile(lat, 0.99),
+            "cpu_per_request": cpu / max(1, state["answered"]), "cpu_use": cpu / wall,
+            "client_cpu": (own1.user + own1.system - own0.user - own0.system) / wall,
+            "rss_mib": sampler.rss_kib / 1024, "threads": sampler.threads,
+            "server_counts_agree": seen == expected, "server_counts": seen, "rss_trace": sampler.trace}
+
+
+def percentile(sorted_values, q):
+    """Nearest-rank percentile of an ascending list."""
+    if not sorted_values:
+        return float("nan")
+    k = max(0, min(len(sorted_values) - 1, math.ceil(q * len(sorted_values)) - 1))
+    return sorted_values[k]
+
+
+def requests_for(clients, workers, seconds_per_request, target_seconds):
+    """A multiple of both the clients and the workers, about target_seconds of work at the bound, >= clients."""
+    step = math.lcm(clients, workers)
+    per_second = workers / seconds_per_request
+    return max(step, step * round(target_seconds * per_second / step))
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
-    root = os.path.dirname(here)
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--wish", default=os.path.join(root, "build", "server", "cli", "wish"))
-    ap.add_argument("--mesh", default=os.path.join(root, "..", "shared", "data", "cgal", "genus0_closed", "bear_bis.off"))
-    ap.add_argument("--route", default="/v1/describe")
-    ap.add_argument("--models", default=None, help="models directory (default: an empty one)")
-    ap.add_argument("--levels", default="1,2,4,8")
-    ap.add_argument("--duration", type=float, default=20.0, help="seconds per concurrency level")
-    ap.add_argument("--soak", type=float, default=0.0, help="extra seconds at concurrency = cores, RSS sampled")
-    ap.add_argument("--workers", type=int, default=0)
-    ap.add_argument("--client", choices=["python", "wrk"], default="python",
-                    help="load generator for the levels and the soak (wrk: Debian's wrk, much lighter on the CPU)")
-    ap.add_argument("--single", type=int, default=10, help="sequential requests for the single-request time")
-    ap.add_argument("--rounds", type=int, default=1, help="repeat single-request baseline + levels this many times")
+    ap.add_argument("--wish", default=os.path.join(ROOT, "build", "release", "cli", "wish"),
+                    help="the wish executable, or wish-server")
+    ap.add_argument("--models", default=os.path.join(ROOT, "data", "models"))
+    ap.add_argument("--route", default="/v1/classify")
+    ap.add_argument("--nucleus", default=NUCLEUS, help="the ~10.8K-vertex nucleus OBJ")
+    ap.add_argument("--meshes", default="nucleus,subdivided")
+    ap.add_argument("--levels", default="1,2,8,64")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--queue-size", type=int, default=32)
+    ap.add_argument("--seconds", type=float, default=20.0,
+                    help="about this much work at the bound per level (count rounded to the clients and workers)")
+    ap.add_argument("--level-timeout", type=float, default=600.0, help="seconds a level may take at most")
+    ap.add_argument("--single", type=int, default=0, help="sequential requests alone (0: about 10 s of them)")
+    ap.add_argument("--soak", type=float, default=0.0, help="extra seconds at concurrency = workers, RSS per minute")
     args = ap.parse_args()
+    if not os.path.isfile(args.nucleus):
+        sys.exit("nucleus mesh not found: %s (../shared/data/nmv_nuclei)" % args.nucleus)
 
-    mesh = open(args.mesh, "rb").read()
     cores = os.cpu_count() or 1
-    tmp = tempfile.mkdtemp(prefix="wish-bench-")
-    models = args.models or tmp
-    log = open(os.path.join(tmp, "server.log"), "wb")
-    proc = subprocess.Popen([args.wish, "serve", "--models", models, "--port", "0", "--workers", str(args.workers),
-                             "--queue-size", "64"], stdout=log, stderr=subprocess.STDOUT)
-    port = None
-    for _ in range(600):
-        m = re.search(r"listening on http://127\.0\.0\.1:(\d+)", open(log.name, errors="replace").read())
-        if m:
-            port = int(m.group(1))
-            break
-        time.sleep(0.05)
-    if port is None:
-        proc.kill()
-        sys.exit("server did not start; log in " + log.name)
-    try:
-        level = (lambda c, d: run_level_wrk(port, args.route, args.mesh, c, d, proc.pid)) if args.client == "wrk" \
-            else (lambda c, d: run_level(port, args.route, mesh, c, d, proc.pid))
-        run_level(port, args.route, mesh, 1, 2.0, proc.pid)  # warm-up
-        print("mesh %s (%d bytes), route %s, cores %d, %.0f s per level, client %s, %d round(s)" % (
-            os.path.basename(args.mesh), len(mesh), args.route, cores, args.duration, args.client, args.rounds))
-        # The machine's speed drifts by +-10 % over minutes (shared host): each round measures its own single-request
-        # baseline right before its levels, and the target is judged on the ratio within a round.
-        ratios, tails = [], []
-        for round_index in range(args.rounds):
-            single, single_latency = single_requests(port, args.route, mesh, args.single)
-            print("round %d: single request (median of %d sequential): pipeline %.3f s (server timings.total), "
-                  "end to end %.3f s" % (round_index + 1, args.single, single, single_latency))
-            print("%5s %8s %6s %9s %8s %8s %8s %10s %14s" % ("conc", "requests", "errors", "req/s", "p50 s", "p95 s",
-                  "p99 s", "pipeline s", "RSS MiB min-max"))
-            for c in [int(x) for x in args.levels.split(",")]:
-                r = level(c, args.duration)
-                print("%5d %8d %6d %9.2f %8.3f %8.3f %8.3f %10.3f %7.0f-%-6.0f" % (
-                    c, r["requests"], r["errors"], r["throughput"], r["p50"], r["p95"], r["p99"], r["pipeline_median"],
-                    r["rss_min_mib"], r["rss_max_mib"]))
-                if c == cores:
-                    ratios.append(r["throughput"] * single / cores)
-                    tails.append(r["p99"] / r["p50"])
-        if ratios:
-            print("target: throughput at concurrency %d >= 90 %% of cores / single-request time: %s of it per round, "
-                  "median %.0f %% -> %s; p99/p50 %s (< 2 -> %s)" % (
-                      cores, " ".join("%.0f %%" % (100 * x) for x in ratios), 100 * statistics.median(ratios),
-                      "met" if statistics.median(ratios) >= 0.9 else "NOT met", " ".join("%.2f" % x for x in tails),
-                      "met" if max(tails) < 2 else "NOT met"))
-        if args.soak > 0:
-            r = level(cores, args.soak)
-            print("soak %.0f s at concurrency %d: %d requests, %d errors, RSS %.0f-%.0f MiB" % (
-                args.soak, cores, r["requests"], r["errors"], r["rss_min_mib"], r["rss_max_mib"]))
-            # Flat = the peak RSS of each minute does not keep rising: compare the last minute with the first.
-            minutes = {}
-            for t, kib in r["rss_trace"]:
-                minutes.setdefault(int(t // 60), []).append(kib / 1024)
-            peaks = [max(v) for _, v in sorted(minutes.items())]
-            print("soak RSS peak per minute (MiB): " + " ".join("%.0f" % p for p in peaks))
-            if len(peaks) >= 2:
-                growth = peaks[-1] - peaks[0]
-                print("soak RSS drift, last minute vs first: %+.0f MiB (%+.1f %%)" % (growth, 100.0 * growth / peaks[0]))
-    finally:
-        proc.terminate()
-        proc.wait(timeout=120)
+    levels = [int(x) for x in args.levels.split(",")]
+    tmp = tempfile.mkdtemp(prefix="wish-load-")
+    meshes = make_meshes(args.meshes.split(","), args.nucleus, tmp)
+    print("POST %s, %d workers, queue %d, %d cores; bound = min(cores, workers) / server CPU s per request alone"
+          % (args.route, args.workers, args.queue_size, cores))
+    header = ("%-10s %7s %5s %4s %5s %4s %7s %6s %8s %8s %7s %6s %6s %7s %4s %s"
+              % ("mesh", "vertices", "conc", "reqs", "503s", "lost", "req/s", "bound", "p50 s", "p99 s", "CPU s/r",
+                 "CPU %", "client", "RSS MiB", "thr", "server counts"))
+    rows, soaked, soak_line = [], False, None
+    for name, (path, vertices) in meshes.items():
+        body = open(path, "rb").read()
+        server = Server(args.wish, args.models, args.workers, args.queue_size, tmp)
+        try:
+            cpu1, _ = alone(server, args.route, body, 1)  # also the warm-up
+            single = args.single or max(3, min(20, int(10 / cpu1)))
+            cpu_alone, latency_alone = alone(server, args.route, body, single)
+            bound = min(cores, args.workers) / cpu_alone
+            print("%s: %d vertices, %d bytes; alone (%d requests): %.3f CPU s and %.3f s per request -> bound %.2f "
+                  "req/s" % (name, vertices, len(body), single, cpu_alone, latency_alone, bound))
+            for c in levels:
+                r = run_level(server, args.route, body, c, requests_for(c, args.workers, cpu_alone, args.seconds),
+                              args.level_timeout)
+                r.update(mesh=name, vertices=vertices, bound=bound)
+                rows.append(r)
+            if args.soak > 0 and not soaked:
+                soaked = True
+                r = run_level(server, args.route, body, args.workers, 10 ** 9, args.soak)  # bounded by time
+                minutes = {}
+                for t, kib in r["rss_trace"]:
+                    minutes.setdefault(int(t // 60), []).append(kib / 1024)
+                peaks = [max(v) for _, v in sorted(minutes.items())]
+                soak_line = "soak %.0f s at concurrency %d on %s: %d answered, %d lost; RSS peak per minute (MiB): %s" % (
+                    args.soak, args.workers, name, r["answered"], len(r["lost"]), " ".join("%.0f" % p for p in peaks))
+        finally:
+            server.stop()
+    print()
+    print(header)
+    for r in rows:
+        print("%-10s %7d %5d %4d %5d %4d %7.2f %5.0f%% %8.3f %8.3f %7.3f %5.0f%% %5.1f%% %7.0f %4d %s%s" % (
+            r["mesh"], r["vertices"], r["clients"], r["requests"], r["rejected"], len(r["lost"]), r["throughput"],
+            100 * r["throughput"] / r["bound"], r["p50"], r["p99"], r["cpu_per_request"], 100 * r["cpu_use"] / cores,
+            100 * r["client_cpu"] / cores, r["rss_mib"], r["threads"],
+            "agree" if r["server_counts_agree"] else "DIFFER %s" % r["server_counts"],
+            " (cut short by --level-timeout)" if r["cut_short"] else ""))
+    lost = sum(len(r["lost"]) for r in rows)
+    print("lost requests: %d%s" % (lost, "" if not lost else " " + str([r["lost"] for r in rows if r["lost"]])))
+    saturated = [r for r in rows if r["clients"] >= 2 * args.workers]
+    if saturated:
+        worst = min(r["throughput"] / r["bound"] for r in saturated)
+        print("at saturation (>= %d clients): %.0f %% of the bound at worst -> target 90 %% %s" % (
+            2 * args.workers, 100 * worst, "met" if worst >= 0.9 else "NOT met"))
+
+    if soak_line:
+        print(soak_line)
 
 
 if __name__ == "__main__":

@@ -1,24 +1,33 @@
-// Training at scale (issue 25): the default `wish train` (paper's 13 x 13 grid with 10 stratified shuffle splits,
-// 20 % test split, nested CV 2 x 5 with 5 inner splits, the feature-family comparison) on 250 / 1,000 / 3,000
-// labelled descriptors, new search (precomputed kernel per gamma, early stop) against today's exhaustive search
-// (libsvm RBF per fit, every cell) on the same splits, and the grid search alone against scikit-learn's GridSearchCV
-// (bench/train_scale_sklearn.py, Debian /usr/bin/python3) on the same rows and splits, in the same run.
-//   train_scale_bench [--sizes 250,1000,3000] [--jobs 2] [--exhaustive-max N (whole train, 250)]
-//                     [--grid-exhaustive-max N (grid alone, 1000)] [--whole-max N (1000)] [--sklearn-max N (3000)]
-//                     [--sklearn-seconds S (scikit-learn wall limit, 1800)]
-//                     [--spread S] [--csv REAL.csv ...] [--patience P (early stop; default: the library's)]
+// Training that scales (issues 25 and 40): the default `wish train` (test split, search, final fit, nested CV, the
+// feature-family comparison) on generated descriptor sets of 1,000 to 30,000 rows, with the path it took (full grid or
+// successive halving; nested CV repeats), against the paper's full grid on the same rows and splits where that is
+// feasible, and scikit-learn's GridSearchCV and HalvingGridSearchCV (bench/train_scale_sklearn.py, Debian
+// /usr/bin/python3) on the same rows, hold-out and validation splits, in the same run.
+//   train_scale_bench [--sizes 1000,3000,10000,30000] [--jobs 2]
+//                     [--whole-max N (default whole train, 30000)] [--paper-whole-max N (whole train, full grid and
+//                     nested CV 2 x 5 as before issue 40, 0)] [--exhaustive-max N (whole train, every cell, 0)]
+//                     [--full-grid-max N (search + fit + test, full grid, 3000)] [--grid-exhaustive-max N (0)]
+//                     [--sklearn-max N (GridSearchCV, 3000)] [--sklearn-halving-max N (HalvingGridSearchCV, 30000)]
+//                     [--sklearn-seconds S (scikit-learn wall limit per run, 3600)]
+//                     [--search auto|grid|halving] [--halving-rows N] [--halving-above N]
+//                     [--two-class N [--classes A,B] [--two-class-spread S]] [--spread S] [--csv REAL.csv ...] [--patience P]
+//   train_scale_bench --sizes 10000 [--two-class 1758] --save-sets DIR: write the sets as descriptor CSVs (for `wish train`)
 //   train_scale_bench --sizes 1000 --profile FAMILY [--profile-exhaustive]: per cell CPU seconds and score of one grid
 // Descriptor sets: drawn from the synthetic demo set's descriptors (data/models/demo-descriptors.csv): per class a
 // Gaussian fitted to [log xi(1..10), global descriptors] (covariance shrunk 20 % to its diagonal), widened by
-// --spread (default 1.5: the classes overlap more than in the demo set, as real ones do). --csv adds real labelled
-// descriptor tables (e.g. `wish describe --csv` of UroCell meshes with a label column) as extra rows.
+// --spread (default 1.5: the classes overlap more than in the demo set, as real ones do). --two-class N adds a set of
+// N rows of two classes (--classes, default astrocyte,endothelium; widened by --two-class-spread, default 3, so that
+// they overlap as hard classes do): the stand-in for issue 40's 1,758 CT organ masks of two classes. --csv adds real labelled descriptor tables (e.g. `wish describe --csv` of UroCell meshes with a
+// label column) as extra rows.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <cmath>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <sys/resource.h>
@@ -32,6 +41,7 @@
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/global_descriptors.hpp"
 #include "core/classify/grid_search.hpp"
+#include "core/classify/search_plan.hpp"
 #include "core/classify/splits.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/standard_scaler.hpp"
@@ -117,9 +127,18 @@ std::vector<TrainingSample> generate(const std::vector<TrainingSample>& templ, i
 
 struct WholeRun {
   double seconds = 0, cpu = 0, test = 0, nested = 0, grid_score = 0, C = 0, gamma = 0;
-  int fits = 0, capped = 0, skipped = 0;
+  std::optional<Interval> interval;
+  std::string path;
+  int fits = 0, capped = 0, skipped = 0, search_rows = 0;
   std::vector<FamilyScore> families;
 };
+
+// "halving, 1 x 5" : the search that ran and the nested CV's repeats x folds.
+std::string path_of(const TrainingReport& r) {
+  std::string p = r.grid.method + " (" + std::to_string(r.grid.search_rows) + " rows)";
+  if (!r.nested.scores.empty()) p += ", nested " + std::to_string(r.nested.repeats) + " x " + std::to_string(r.nested.outer_folds);
+  return p;
+}
 
 // The default `wish train` from a descriptor table: train_classifier + the family comparison (as cmd_train.cpp).
 WholeRun whole_train(const std::vector<TrainingSample>& samples, TrainOptions t, bool compare) {
@@ -132,9 +151,12 @@ WholeRun whole_train(const std::vector<TrainingSample>& samples, TrainOptions t,
   w.cpu = cpu_seconds() - c0;
   w.test = r.report.test.accuracy;
   w.nested = r.report.nested.mean;
+  w.interval = r.report.nested.interval95;
   w.grid_score = r.report.grid.best_score;
   w.C = r.report.grid.C();
   w.gamma = r.report.grid.gamma();
+  w.path = path_of(r.report);
+  w.search_rows = r.report.grid.search_rows;
   w.fits = r.report.grid.fits + r.report.nested.fits;
   w.capped = r.report.grid.total_capped_fits() + r.report.nested.capped_fits;
   w.skipped = r.report.grid.cells_skipped + r.report.nested.cells_skipped;
@@ -142,6 +164,7 @@ WholeRun whole_train(const std::vector<TrainingSample>& samples, TrainOptions t,
 }
 
 int g_patience = 0;
+ScalePolicy g_scale;
 
 TrainOptions default_options(int jobs) {
   TrainOptions t;  // the defaults of `wish train` (cli/cmd_train.cpp): Lmax 10, log, invariants
@@ -150,14 +173,16 @@ TrainOptions default_options(int jobs) {
   t.recipe.sh.lmax = 10;
   t.grid.jobs = jobs;
   if (g_patience > 0) t.grid.early_stop_patience = g_patience;
+  t.scale = g_scale;
   t.trained_at = "2024-01-01T00:00:00Z";
   return t;
 }
 
-void print_whole(const char* name, std::size_t n, const WholeRun& w) {
-  std::printf("| %s | %zu | %.1f | %.1f | %.3f | %.3f | %.3f | %.0e / %.0e | %d | %d | %d |", name, n, w.seconds, w.cpu,
-              w.grid_score, w.test,
-              w.nested, w.C, w.gamma, w.fits, w.capped, w.skipped);
+void print_whole(const std::string& name, std::size_t n, const WholeRun& w) {
+  char interval[64] = "";
+  if (w.interval) std::snprintf(interval, sizeof interval, " (%.3f-%.3f)", w.interval->low, w.interval->high);
+  std::printf("| %s | %zu | %s | %.1f | %.1f | %.3f | %.3f%s | %.0e / %.0e | %d | %d |", name.c_str(), n, w.path.c_str(),
+              w.seconds, w.cpu, w.test, w.nested, interval, w.C, w.gamma, w.fits, w.capped);
   for (const auto& f : w.families) std::printf(" %s %.3f", f.family.c_str(), f.nested_mean);
   std::printf(" |\n");
   std::fflush(stdout);
@@ -194,15 +219,61 @@ void profile_grid(const std::vector<TrainingSample>& samples, TrainOptions t, co
   std::fflush(stdout);
 }
 
+// One scikit-learn run (train_scale_sklearn.py --search grid|halving) on the rows, hold-out and validation splits of
+// train_classifier; prints a row of the search table or says why there is none.
+void sklearn_row(const std::vector<TrainingSample>& samples, const std::string& set_name, const TrainOptions& t,
+                 const std::string& search, int jobs, int limit_seconds, const fs::path& script, const fs::path& tmp) {
+  Eigen::MatrixXd X;
+  std::vector<int> y;
+  std::vector<std::string> classes;
+  build_feature_matrix(samples, t.recipe.features, X, y, classes);
+  const Split holdout = stratified_shuffle_split(y, 1, t.test_fraction, t.seed).front();
+  std::vector<int> y_train;
+  for (int i : holdout.train) y_train.push_back(y[i]);
+  const auto grid_splits = stratified_shuffle_split(y_train, t.grid_splits, t.grid_validation_fraction, t.seed + 1);
+  nlohmann::json spec;
+  spec["labels"] = y;
+  spec["holdout"] = {{"train", holdout.train}, {"test", holdout.test}};
+  for (const auto& s : grid_splits) spec["grid_splits"].push_back({{"train", s.train}, {"test", s.test}});
+  const fs::path csv = tmp / "descriptors.csv", splits = tmp / "splits.json";
+  std::ofstream(csv) << write_descriptor_table(samples);
+  std::ofstream(splits) << spec.dump();
+  const std::string name = search == "halving" ? "scikit-learn HalvingGridSearchCV" : "scikit-learn GridSearchCV";
+  const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_seconds(RUSAGE_CHILDREN);
+  const std::string out = run("timeout " + std::to_string(limit_seconds) + " /usr/bin/python3 '" + script.string() + "' '" +
+                              csv.string() + "' '" + splits.string() + "' --jobs " + std::to_string(jobs) + " --search " +
+                              search + " 2>/dev/null");
+  const double wall = seconds_since(t0), cpu = cpu_seconds(RUSAGE_CHILDREN) - c0;
+  try {
+    const auto j = nlohmann::json::parse(out);
+    std::string path = search;
+    if (search == "halving") {
+      path += " (rows";
+      for (const auto& r : j["n_resources"]) path += " " + std::to_string(r.get<int>());
+      path += ")";
+    }
+    std::printf("| %s (%s) | %zu | %s | %.1f | %.1f | %.3f | %.0e / %.0e | %.3f | %d | — |\n", name.c_str(), set_name.c_str(),
+                samples.size(), path.c_str(), wall, cpu, j["grid_score"].get<double>(), j["best_C"].get<double>(),
+                j["best_gamma"].get<double>(), j["test_accuracy"].get<double>(), j["fits"].get<int>());
+  } catch (const std::exception&) {
+    std::printf("| %s (%s) | %zu | %s | not finished (%.0f s wall, %.0f CPU s; scikit-learn missing or past the %d s limit) |\n",
+                name.c_str(), set_name.c_str(), samples.size(), search.c_str(), wall, cpu, limit_seconds);
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // rows survive a run stopped for time
-  std::vector<int> sizes{250, 1000, 3000};
+  std::vector<int> sizes{1000, 3000, 10000, 30000};
   std::vector<std::string> real_csvs;
-  int jobs = 2, exhaustive_max = 250, grid_exhaustive_max = 1000, whole_max = 1000, sklearn_max = 3000;
-  int sklearn_seconds = 1800;  // scikit-learn's wall-time limit: its 3,000 row needs more on a loaded machine
-  double spread = 1.5;
+  int jobs = 2, whole_max = 30000, paper_whole_max = 0, exhaustive_max = 0, full_grid_max = 3000, grid_exhaustive_max = 0;
+  int sklearn_max = 3000, sklearn_halving_max = 30000, sklearn_seconds = 3600, two_class = 0;
+  std::string two_classes = "astrocyte,endothelium";
+  std::string save_sets;  // a directory: each generated set written as a descriptor CSV (for `wish train` itself)
+  double spread = 1.5, two_class_spread = 3.0;
   std::string profile_family;
   int patience = 0;  // 0: the default of GridSearchOptions
   bool profile_exhaustive = false;
@@ -214,21 +285,32 @@ int main(int argc, char** argv) {
       std::stringstream ss(next());
       for (std::string item; std::getline(ss, item, ',');) sizes.push_back(std::stoi(item));
     } else if (a == "--jobs") jobs = std::stoi(next());
-    else if (a == "--exhaustive-max") exhaustive_max = std::stoi(next());
     else if (a == "--whole-max") whole_max = std::stoi(next());
+    else if (a == "--paper-whole-max") paper_whole_max = std::stoi(next());
+    else if (a == "--exhaustive-max") exhaustive_max = std::stoi(next());
+    else if (a == "--full-grid-max") full_grid_max = std::stoi(next());
     else if (a == "--grid-exhaustive-max") grid_exhaustive_max = std::stoi(next());
     else if (a == "--sklearn-max") sklearn_max = std::stoi(next());
+    else if (a == "--sklearn-halving-max") sklearn_halving_max = std::stoi(next());
     else if (a == "--sklearn-seconds") sklearn_seconds = std::stoi(next());
+    else if (a == "--search") g_scale.search = search_method_from_name(next());
+    else if (a == "--halving-rows") g_scale.halving.max_rows = std::stoi(next());
+    else if (a == "--halving-above") g_scale.halving_above_rows = std::stoi(next());
+    else if (a == "--two-class") two_class = std::stoi(next());
+    else if (a == "--save-sets") save_sets = next();
+    else if (a == "--classes") two_classes = next();
+    else if (a == "--two-class-spread") two_class_spread = std::stod(next());
     else if (a == "--spread") spread = std::stod(next());
     else if (a == "--csv") real_csvs.push_back(next());
     else if (a == "--profile") profile_family = next();
     else if (a == "--patience") patience = std::stoi(next());
     else if (a == "--profile-exhaustive") profile_exhaustive = true;
     else {
-      std::cerr << "usage: train_scale_bench [--sizes 250,1000,3000] [--jobs J] [--exhaustive-max N] "
-                   "[--grid-exhaustive-max N] [--whole-max N] "
-                   "[--sklearn-max N] [--sklearn-seconds S] [--spread S] [--csv REAL.csv ...] [--patience P] "
-                   "[--profile FAMILY [--profile-exhaustive]]\n";
+      std::cerr << "usage: train_scale_bench [--sizes 1000,3000,10000,30000] [--jobs J] [--whole-max N] "
+                   "[--paper-whole-max N] [--exhaustive-max N] [--full-grid-max N] [--grid-exhaustive-max N] "
+                   "[--sklearn-max N] [--sklearn-halving-max N] [--sklearn-seconds S] [--search auto|grid|halving] "
+                   "[--halving-rows N] [--halving-above N] [--two-class N [--classes A,B] [--two-class-spread S]] "
+                   "[--spread S] [--csv REAL.csv ...] [--patience P] [--profile FAMILY [--profile-exhaustive]] [--save-sets DIR]\n";
       return 2;
     }
   }
@@ -241,7 +323,22 @@ int main(int argc, char** argv) {
   };
   std::vector<Set> sets;
   for (int n : sizes) sets.push_back({"generated", generate(templ, n, spread, 1000 + static_cast<std::uint64_t>(n))});
+  if (two_class > 0) {
+    std::vector<TrainingSample> pair;
+    for (const auto& s : templ)
+      if (("," + two_classes + ",").find("," + s.label + ",") != std::string::npos) pair.push_back(s);
+    sets.push_back({"two-class", generate(pair, two_class, two_class_spread, 2000 + static_cast<std::uint64_t>(two_class))});
+  }
   for (const auto& p : real_csvs) sets.push_back({fs::path(p).filename().string(), read_descriptor_table(read_text(p)).samples});
+  if (!save_sets.empty()) {
+    fs::create_directories(save_sets);
+    for (const auto& set : sets) {
+      const fs::path out = fs::path(save_sets) / (set.name + "-" + std::to_string(set.samples.size()) + ".csv");
+      std::ofstream(out) << write_descriptor_table(set.samples);
+      std::printf("wrote %s\n", out.c_str());
+    }
+    return 0;
+  }
   if (!profile_family.empty()) {
     for (const auto& set : sets) {
       TrainOptions t = default_options(jobs);
@@ -255,76 +352,65 @@ int main(int argc, char** argv) {
   const fs::path tmp = fs::temp_directory_path() / ("wish_train_scale_" + std::to_string(::getpid()));
   fs::create_directories(tmp);
 
-  std::printf("## whole default `wish train` (grid 13 x 13 x 10 splits, test split, nested CV 2 x 5 x 5 inner, 3 families), %d jobs\n\n", jobs);
-  std::printf("| search | n | wall s | CPU s | grid score | test acc | nested CV | best C / gamma | fits | capped fits | cells skipped | nested CV per family |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("## whole `wish train` (test split, search, final fit, nested CV, the 3 feature families), %d jobs\n\n", jobs);
+  std::printf("| run | n | path: search (rows of its best score), nested CV repeats x folds | wall s | CPU s | test acc | "
+              "nested CV (95 %% interval) | best C / gamma | fits | capped fits | nested CV per family |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& set : sets) {
     const std::size_t n = set.samples.size();
-    if (static_cast<int>(n) > whole_max) continue;
     const bool compare = set.samples.front().features.global.size() > 0;
     TrainOptions t = default_options(jobs);
-    print_whole(("new (" + set.name + ")").c_str(), n, whole_train(set.samples, t, compare));
+    if (static_cast<int>(n) <= whole_max) print_whole("default (" + set.name + ")", n, whole_train(set.samples, t, compare));
+    t.scale.search = SearchMethod::Grid;  // the paper's protocol, the default before issue 40
+    if (static_cast<int>(n) <= paper_whole_max) print_whole("full grid, 2 x 5 (" + set.name + ")", n, whole_train(set.samples, t, compare));
     if (static_cast<int>(n) <= exhaustive_max) {
       t.grid.precomputed_kernel = false;
       t.grid.early_stop = false;
-      print_whole(("exhaustive (" + set.name + ")").c_str(), n, whole_train(set.samples, t, compare));
+      print_whole("exhaustive (" + set.name + ")", n, whole_train(set.samples, t, compare));
     }
   }
 
-  std::printf("\n## grid search alone + final fit + test split (same rows, hold-out and 10 validation splits), %d jobs\n\n", jobs);
-  std::printf("| search | n | grid wall s | train CPU s | grid score | best C / gamma | test acc | fits | capped fits | cells skipped |\n");
+  std::printf("\n## search + final fit (Platt) + test split, same rows, hold-out and 10 validation splits, %d jobs\n\n", jobs);
+  std::printf("| search | n | path | wall s | CPU s | score (rows) | best C / gamma | test acc | fits | capped fits |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& set : sets) {
     const std::size_t n = set.samples.size();
     TrainOptions t = default_options(jobs);
     t.nested_repeats = 0;
-    auto row = [&](const char* name, const TrainOptions& o) {
+    t.novelty = false;  // scikit-learn's side has none
+    auto row = [&](const std::string& name, const TrainOptions& o) {
+      const auto t0 = std::chrono::steady_clock::now();
       const double c0 = cpu_seconds();
       const TrainingResult r = train_classifier(set.samples, o);
-      std::printf("| %s (%s) | %zu | %.1f | %.1f | %.3f | %.0e / %.0e | %.3f | %d | %d | %d |\n", name, set.name.c_str(), n,
-                  r.report.grid.seconds, cpu_seconds() - c0, r.report.grid.best_score, r.report.grid.C(), r.report.grid.gamma(),
-                  r.report.test.accuracy, r.report.grid.fits, r.report.grid.total_capped_fits(), r.report.grid.cells_skipped);
+      std::string path = r.report.grid.method;
+      if (!r.report.grid.rungs.empty()) {
+        path += " (rows:cells:s";
+        for (const auto& g : r.report.grid.rungs)
+          path += " " + std::to_string(g.rows) + ":" + std::to_string(g.candidates) + ":" + std::to_string(std::lround(g.seconds));
+        path += ")";
+      }
+      std::printf("| %s (%s) | %zu | %s | %.1f | %.1f | %.3f (%d) | %.0e / %.0e | %.3f | %d | %d |\n", name.c_str(),
+                  set.name.c_str(), n, path.c_str(), seconds_since(t0), cpu_seconds() - c0,
+                  r.report.grid.best_score, r.report.grid.search_rows, r.report.grid.C(), r.report.grid.gamma(),
+                  r.report.test.accuracy, r.report.grid.fits, r.report.grid.total_capped_fits());
       std::fflush(stdout);
-      return r;
     };
-    const TrainingResult ours = row("new", t);
+    row("default", t);
+    if (static_cast<int>(n) <= full_grid_max) {
+      TrainOptions g = t;
+      g.scale.search = SearchMethod::Grid;
+      row("full grid", g);
+    }
     if (static_cast<int>(n) <= grid_exhaustive_max) {
       TrainOptions e = t;
+      e.scale.search = SearchMethod::Grid;
       e.grid.precomputed_kernel = false;
       e.grid.early_stop = false;
       row("exhaustive", e);
     }
-    if (static_cast<int>(n) > sklearn_max) continue;
-    // The same rows, hold-out and validation splits as train_classifier (seeds: test = seed, grid = seed + 1).
-    Eigen::MatrixXd X;
-    std::vector<int> y;
-    std::vector<std::string> classes;
-    build_feature_matrix(set.samples, t.recipe.features, X, y, classes);
-    const Split holdout = stratified_shuffle_split(y, 1, t.test_fraction, t.seed).front();
-    std::vector<int> y_train;
-    for (int i : holdout.train) y_train.push_back(y[i]);
-    const auto grid_splits = stratified_shuffle_split(y_train, t.grid_splits, t.grid_validation_fraction, t.seed + 1);
-    nlohmann::json spec;
-    spec["labels"] = y;
-    spec["holdout"] = {{"train", holdout.train}, {"test", holdout.test}};
-    for (const auto& s : grid_splits) spec["grid_splits"].push_back({{"train", s.train}, {"test", s.test}});
-    const fs::path csv = tmp / "descriptors.csv", splits = tmp / "splits.json";
-    std::ofstream(csv) << write_descriptor_table(set.samples);
-    std::ofstream(splits) << spec.dump();
-    const auto t0 = std::chrono::steady_clock::now();
-    const double c0 = cpu_seconds(RUSAGE_CHILDREN);
-    const std::string out = run("timeout " + std::to_string(sklearn_seconds) + " /usr/bin/python3 '" + script.string() + "' '" + csv.string() + "' '" +
-                                splits.string() + "' --jobs " + std::to_string(jobs) + " 2>/dev/null");
-    try {
-      const auto j = nlohmann::json::parse(out);
-      std::printf("| scikit-learn GridSearchCV (%s) | %zu | %.1f | %.1f | %.3f | %.0e / %.0e | %.3f | %zu | — | 0 |\n", set.name.c_str(), n,
-                  j["grid_seconds"].get<double>(), cpu_seconds(RUSAGE_CHILDREN) - c0, j["grid_score"].get<double>(), j["best_C"].get<double>(),
-                  j["best_gamma"].get<double>(), j["test_accuracy"].get<double>(), 169 * grid_splits.size());
-    } catch (const std::exception&) {
-      std::printf("| scikit-learn GridSearchCV (%s) | %zu | not finished (%.0f s; sklearn missing or past the %d s limit) |\n",
-                  set.name.c_str(), n, seconds_since(t0), sklearn_seconds);
-    }
-    std::fflush(stdout);
+    if (static_cast<int>(n) <= sklearn_max) sklearn_row(set.samples, set.name, t, "grid", jobs, sklearn_seconds, script, tmp);
+    if (static_cast<int>(n) <= sklearn_halving_max)
+      sklearn_row(set.samples, set.name, t, "halving", jobs, sklearn_seconds, script, tmp);
   }
   fs::remove_all(tmp);
   return 0;

@@ -32,6 +32,7 @@
 #include "core/classify/dataset.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/laplace_spectrum.hpp"
 #include "core/classify/recipe_names.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/training.hpp"
@@ -60,10 +61,13 @@ struct TrainCliOptions {
   int lmax = 10;
   FeatureFamily features = FeatureFamily::Invariants;
   ScaleNormalization scale = ScaleNormalization::None;
+  int spectrum_count = kDefaultSpectrumCount;
   bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   bool early_stop = true;
+  SearchMethod search = SearchMethod::Auto;
   double novelty_quantile = 0.99;
   int novelty_folds = 0;
+  NoveltyRule novelty_rule = NoveltyRule::NearestClass;
   std::uint64_t seed = 42;
   int jobs = 0;
   MapMethod method = MapMethod::Cmcf;
@@ -98,6 +102,9 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
       ->check(CLI::Range(1, 100))->capture_default_str();
   add_enum_option(sub, "--features", o->features, kFeatureFamilyNames, "Feature family");
+  sub.add_option("--spectrum-count", o->spectrum_count,
+                 "Families with the spectrum: how many Laplace-Beltrami eigenvalues (ShapeDNA)")
+      ->check(CLI::Range(1, kMaxSpectrumCount))->capture_default_str();
   add_enum_option(sub, "--scale", o->scale, kScaleNormalizationNames,
                   "Scale normalisation of xi: none, xi(l)/xi(1) or xi(l)/surface area");
   sub.add_flag("--log,!--no-log", o->log, "log of the (normalised) energies (default on; --no-log: off)");
@@ -143,10 +150,16 @@ CommandRunner setup_train(CLI::App& sub) {
                "Grid search: stop a gamma row, C ascending, at the first C past its peak (once the row has risen, "
                "a C whose mean validation accuracy is not above the row's best; default on; --no-early-stop: every "
                "cell)");
+  add_enum_option(sub, "--search", o->search, kSearchMethodNames,
+                  "auto: the full grid up to " + std::to_string(ScalePolicy{}.halving_above_rows) +
+                      " training rows, successive halving above (see below); grid / halving: that search at any size");
   sub.add_option("--novelty-quantile", o->novelty_quantile,
                  "The model's default novelty threshold: per class, this quantile of the class's leave-one-out (or "
                  "--novelty-folds cross-validated) k-NN distances (a prediction above every class's says novel: true; predict/serve may override)")
       ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
+  add_enum_option(sub, "--novelty-rule", o->novelty_rule, kNoveltyRuleNames,
+                  "Which class's threshold flags a sample novel: every class's (nearest_class, model format 5/6) or the "
+                  "class the SVM predicts (predicted_class, format 7); docs/benchmarks.md \"Novelty, issue 38\"");
   sub.add_option("--novelty-folds", o->novelty_folds,
                  "Novelty calibration scores: 0 leave-one-out (model format 5), N >= 2 N-fold cross-validated (format 6: "
                  "the quantile's false-flag rate holds more closely, fewer new types flagged; docs/benchmarks.md \"Novelty\")")
@@ -163,7 +176,8 @@ CommandRunner setup_train(CLI::App& sub) {
       "attempt mapped it), nu 1e-1, Lmax 10, log on. `wish describe` defaults to willmore, nu 1e-5, Lmax 15 instead (the paper's map\n"
       "and the SH fit's own settings: the closest fit and reconstruction); the smoother xi of nu 1e-1 classify\n"
       "better (nested CV on UroCell 95.2 % against 93.1 % at nu 1e-5, cMCF 93.1-95.2 % against Willmore's\n"
-      "89.4-92.6 %, Lmax 15 gains at most 0.3 points over 10). A model records its recipe: classify uses it.");
+      "89.4-92.6 %, Lmax 15 gains at most 0.3 points over 10). A model records its recipe: classify uses it.\n"
+      "\n" + training_scale_help(ScalePolicy{}));
   return [o]() {
     DescriptorRecipe recipe;
     recipe.map.method = o->method;
@@ -181,6 +195,9 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.features.scale = o->scale;
     recipe.features.log_transform = o->log;
     recipe.features.global_scale_free = o->global_scale_free;
+    // Only a family with the spectrum has a count: any other keeps the legacy 0 (no spectrum), so its model file is
+    // the recipe version it was before issue 38 (descriptor_recipe_codec.hpp) and equal to the bundled model's.
+    recipe.features.spectrum_count = family_blocks(o->features).spectrum ? o->spectrum_count : 0;
     recipe.off_recipe = o->off_recipe;
 
     std::vector<TrainingSample> samples;
@@ -254,8 +271,10 @@ CommandRunner setup_train(CLI::App& sub) {
     t.grid.gammas = decade_grid(o->gamma_range[0], o->gamma_range[1]);
     t.grid.jobs = o->jobs;
     t.grid.early_stop = o->early_stop;
+    t.scale.search = o->search;
     t.novelty_quantile = o->novelty_quantile;
     t.novelty_folds = o->novelty_folds;
+    t.novelty_rule = o->novelty_rule;
     t.grid_splits = o->grid_splits;
     t.test_fraction = o->test_fraction;
     t.nested_repeats = o->nested_repeats;

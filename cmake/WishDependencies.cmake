@@ -8,7 +8,17 @@ find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(TIFF 4.5 REQUIRED)
-find_package(OpenMesh REQUIRED)
+# OpenMesh: Debian's libopenmesh-dev when installed, else its files as scripts/install-deps.sh unpacks them for the
+# service alone (the package's dependency on libopenscenegraph-dev is 153 packages WISH does not use).
+find_package(OpenMesh QUIET)
+if(NOT OpenMesh_FOUND)
+  file(GLOB WISH_UNPACKED_OPENMESH "${CMAKE_CURRENT_SOURCE_DIR}/build/debian-dev/libopenmesh-dev/usr/lib/*/cmake/OpenMesh")
+  find_package(OpenMesh PATHS ${WISH_UNPACKED_OPENMESH} NO_DEFAULT_PATH)
+  if(NOT OpenMesh_FOUND)
+    message(FATAL_ERROR "OpenMesh not found: run scripts/install-deps.sh (it installs libopenmesh1 and unpacks "
+                        "libopenmesh-dev's headers into build/debian-dev/), or apt-get install libopenmesh-dev")
+  endif()
+endif()
 
 # SuiteSparse 5.x on Debian 12 ships no CMake package: find CHOLMOD by hand.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
@@ -29,6 +39,8 @@ target_link_libraries(wish::libsvm INTERFACE ${LIBSVM_LIBRARY})
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
 pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
+# The per-object table of a classified label volume as AnnData (.h5ad): Debian's serial libhdf5 (C API).
+pkg_check_modules(HDF5 REQUIRED IMPORTED_TARGET hdf5)
 
 # cpp-httplib 0.11 is a compiled library with only a pkg-config file.
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)

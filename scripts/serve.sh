@@ -11,10 +11,11 @@ port=${PORT:-8080}
 models=${WISH_MODELS:-data/models}
 
 bash scripts/install-deps.sh
-# Ninja for a new build folder: it compiles the objects of every library at once (Make waits for each library's
-# dependencies), which keeps both cores busy with the few large unity batches (cmake/WishBuildSpeed.cmake).
-generator=(); [[ -f build/release/CMakeCache.txt ]] || generator=(-G Ninja)
-cmake "${generator[@]}" -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
+# A new build folder: Ninja, which compiles the objects of every library at once (Make waits for each library's
+# dependencies) and keeps both cores busy with the few large unity batches (cmake/WishBuildSpeed.cmake); no tests
+# or benchmarks, whose packages the service's set-up does not install (scripts/test.sh turns them on).
+new_folder=(); [[ -f build/release/CMakeCache.txt ]] || new_folder=(-G Ninja -DWISH_BUILD_TESTS=OFF -DWISH_BUILD_BENCH=OFF)
+cmake "${new_folder[@]}" -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j "$(getconf _NPROCESSORS_ONLN)" --target wish-server
 
 example=data/meshes/celegans_cell.obj

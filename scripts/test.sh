@@ -39,7 +39,7 @@ step "release build"
 export CCACHE_DIR="$root/.ccache" CCACHE_BASEDIR="$root" CCACHE_SLOPPINESS=pch_defines,time_macros CCACHE_MAXSIZE=2G
 image_locale=(env -u LC_ALL -u LC_CTYPE -u LC_MESSAGES LANG=C.UTF-8)
 "${image_locale[@]}" cmake -G "$(generator build/release)" -S . -B build/release -DCMAKE_BUILD_TYPE=Release \
-      -DWISH_SANITIZE=OFF -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
+      -DWISH_SANITIZE=OFF -DWISH_BUILD_TESTS=ON -DWISH_BUILD_BENCH=ON -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
 "${image_locale[@]}" cmake --build build/release -j "$jobs"
 
 touch build/release-build.done   # the background job builds the image now

@@ -1,11 +1,14 @@
 #include "server/compute_service.hpp"
 
+#include "core/pipeline/class_map.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/spherical_map/flow_step_cap.hpp"
+#include "core/pipeline/volume_overrides.hpp"
 #include "core/pipeline/volume_pipeline.hpp"
 #include "server/api_response.hpp"
 #include "server/loaded_model.hpp"
+#include "wire/base64.hpp"
 #include "wire/result_json.hpp"
 #include "wire/volume_result_json.hpp"
 
@@ -109,24 +112,14 @@ void record_stages(const ComputeJob& job, const StageTimings& t, ComputeOutcome&
   if (job.op == Operation::Classify) out.stages["classify"] += t.classify;
 }
 
+// The service's limits, then the request's settings (the one mapping, core/pipeline/volume_overrides.hpp).
 VolumeOptions volume_options(const ComputeJob& job, const ServerConfig& config) {
-  const VolumeParams& p = job.params.volume;
   VolumeOptions v;
   v.read.limits.max_bytes = config.max_upload_bytes;
   v.read.limits.max_voxels = config.max_volume_voxels;
-  if (p.spacing) v.read.spacing_override = Eigen::Vector3d((*p.spacing)[0], (*p.spacing)[1], (*p.spacing)[2]);
-  if (p.unit) v.read.unit_override = *p.unit;
-  v.read.zarr_labels = p.label_image;
-  v.read.zarr_level = p.level;
-  v.objects.mode = p.objects == "labels"       ? volume::ObjectMode::Labels
-                   : p.objects == "components" ? volume::ObjectMode::Components
-                                               : volume::ObjectMode::Auto;
-  v.objects.min_voxels = p.min_voxels;
-  v.objects.drop_truncated = p.drop_truncated;
-  v.objects.label_ids = p.labels;
-  v.objects.threshold = p.threshold;
   v.objects.max_objects = config.max_volume_objects;
   v.surface.max_box_voxels = config.max_object_box_voxels;
+  apply_overrides(job.params.volume, v);
   return v;
 }
 
@@ -160,10 +153,37 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
     }
     return result;
   };
+  // ?output=labels: each object's class map value as it is classified, the map itself once the volume is done.
+  std::optional<ClassMap> class_map;
+  if (job.params.output_labels) class_map.emplace(class_map_legend(job.model->model.classes()));
+  nlohmann::json class_map_json;
+  const auto on_complete = [&](const VolumeReadResult& read, const volume::ObjectSet& found) {
+    if (!class_map) return;
+    const std::string name = class_map_name(job.model->model.name());
+    const ClassMapBytes bytes = class_map_bytes(name, read, found, *class_map);
+    nlohmann::json values = nlohmann::json::array();
+    for (const auto& e : class_map->legend().entries)
+      values.push_back({{"value", e.value}, {"name", e.name}, {"rgb", {e.rgb[0], e.rgb[1], e.rgb[2]}}});
+    std::string stem = job.part.filename.empty() ? std::string("volume") : job.part.filename;
+    for (const char* ext : {".nii.gz", ".nii", ".tiff", ".tif", ".ome.zarr.zip", ".zarr.zip", ".zip"})
+      if (stem.size() > std::string(ext).size() && stem.ends_with(ext)) {
+        stem.resize(stem.size() - std::string(ext).size());
+        break;
+      }
+    class_map_json = {{"name", name},
+                      {"format", to_string(read.format)},
+                      {"media_type", bytes.media_type},
+                      {"filename", stem + "_" + name + bytes.extension},
+                      {"values", values},
+                      {"encoding", "base64"},
+                      {"bytes", bytes.bytes.size()},
+                      {"data", wire::base64_encode(bytes.bytes)}};
+  };
   const auto on_object = [&](std::size_t, VolumeObjectResult& object) {
     const volume::SurfaceTimings& st = object.surface.timings;
     out.stages["surface"] += st.extraction + st.surface + st.smoothing + st.decimation;
     nlohmann::json entry{{"label_id", object.object.id}, {"object", volume_object_json(object, unit)}};
+    if (class_map) entry["class_value"] = class_map->add(object).value;
     int status = 200;
     if (object.error) {
       const ApiError error = to_api_error(*object.error);
@@ -189,7 +209,8 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
                               [&](const VolumeSummary& s) {
                                 kept = s.kept;
                                 unit = s.unit;
-                              });
+                              },
+                              on_complete);
   } catch (const WishError& e) {
     if (e.category() != ErrorCategory::Timeout) throw;
     ErrorDetails details = e.details();  // the service's limit beside the count of objects done
@@ -210,6 +231,7 @@ void run_volume(const ComputeJob& job, const ServerConfig& config, ComputeOutcom
   out.result["volume"]["bytes"] = job.part.bytes->size();
   if (job.op == Operation::Classify)
     out.result["model"] = {{"name", json_options.model_name}, {"version", json_options.model_version}};
+  if (!class_map_json.is_null()) out.result["class_map"] = std::move(class_map_json);
 }
 
 }  // namespace
@@ -220,11 +242,11 @@ ComputeOutcome run_compute(const ComputeJob& job, const ServerConfig& config) no
   out.stages["queue_wait"] = seconds_between(job.submitted, started);
   try {
     job.deadline.check("queue wait");  // expired while queued: do not start
-    if (!job.part.volume && !job.params.volume.given.empty())
+    if (!job.part.volume && !job.params.volume_given.empty())
       throw InvalidInputError("invalid_parameter",
-                              "parameter '" + job.params.volume.given.front() +
+                              "parameter '" + job.params.volume_given.front() +
                                   "' applies to label volumes (NIfTI-1, TIFF, OME-Zarr) only; this part is a mesh",
-                              {{"parameter", job.params.volume.given.front()}});
+                              {{"parameter", job.params.volume_given.front()}});
     if (job.part.volume) {
       run_volume(job, config, out);  // sets the status from the objects'
       out.stages["total"] = seconds_between(started, std::chrono::steady_clock::now());

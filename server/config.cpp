@@ -62,6 +62,7 @@ std::string ServerConfig::describe() const {
       << "shutdown_grace_seconds = " << shutdown_grace_seconds << "\n"
       << "retry_after_seconds = " << retry_after_seconds << "\n"
       << "web_dir = " << (web_dir.empty() ? std::string("(none: no web page)") : web_dir.string()) << "\n"
+      << "three_dir = " << (three_dir.empty() ? std::string("(none)") : three_dir.string()) << "\n"
       << "auth = " << (auth_token.empty() ? "off" : "bearer token (set)") << "\n"
       << "json_log = " << (json_log ? "true" : "false") << "\n"
       << "log_level = " << log_level;

@@ -43,8 +43,10 @@ struct ServerConfig {
   double shutdown_grace_seconds = 30;  // SIGTERM: finish in-flight requests within this, then cancel them
   int retry_after_seconds = 1;
 
-  // The web page (web/ built by web/build.mjs) served at GET /; empty: no page (GET / is 404).
+  // The web page (web/src: plain ES modules, no build step) served at GET /; empty: no page (GET / is 404).
   std::filesystem::path web_dir;
+  // The three.js the page imports: the root of Debian's libjs-three, served under /vendor/three/ (static_assets.hpp).
+  std::filesystem::path three_dir;
 
   std::string auth_token;            // non-empty: /v1/* requires "Authorization: Bearer <token>"
   bool json_log = false;             // one JSON object per log line

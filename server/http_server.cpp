@@ -481,9 +481,10 @@ struct HttpServer::Impl {
     // Last: the web page's files (static_assets.hpp) for every other GET; a miss stays a bodiless 404, which the
     // error handler turns into the usual error body.
     if (!config.web_dir.empty()) {
-      server.Get(R"(/.*)", [this](const httplib::Request& req, httplib::Response& res) {
+      const auto mounts = web_mounts(config.web_dir, config.three_dir);
+      server.Get(R"(/.*)", [this, mounts](const httplib::Request& req, httplib::Response& res) {
         t_request.route = "/ (web page)";
-        StaticAsset asset = load_static_asset(config.web_dir, req.path);
+        StaticAsset asset = load_web_file(mounts, req.path);
         if (asset.status != 200) {
           res.status = asset.status;
           return;

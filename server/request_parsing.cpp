@@ -8,6 +8,7 @@
 
 #include "core/common/errors.hpp"
 #include "core/spherical_map/map_types.hpp"
+#include "core/volume/object_mode.hpp"
 
 namespace wish::server {
 
@@ -63,8 +64,18 @@ double parse_positive(const std::string& name, const std::string& item, const st
   return out;
 }
 
-// The volume parameters (VolumeParams); false when `name` is not one.
-bool parse_volume_param(const std::string& name, const std::string& value, VolumeParams& out) {
+double parse_non_negative(const std::string& name, const std::string& value) {
+  double out = 0;
+  const char* end = value.data() + value.size();
+  const auto [ptr, ec] = std::from_chars(value.data(), end, out);
+  if (value.empty() || ec != std::errc() || ptr != end || !std::isfinite(out) || out < 0)
+    invalid_parameter(name, "parameter " + name + "='" + value + "' is not a number >= 0", value);
+  return out;
+}
+
+// The volume parameters (core/pipeline/volume_overrides.hpp); false when `name` is not one.
+bool parse_volume_param(const std::string& name, const std::string& value, VolumeOverrides& out,
+                        std::vector<std::string>& given) {
   if (name == "spacing") {
     const auto items = split_commas(value);
     if (items.size() != 3)
@@ -77,12 +88,17 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
     if (!plain) invalid_parameter(name, "parameter unit='" + value + "' must be a unit name such as nm or um", value);
     out.unit = value;
   } else if (name == "objects") {
-    const std::string m = lower(value);
-    if (m != "auto" && m != "labels" && m != "components")
-      invalid_parameter(name, "objects must be auto, labels or components, not '" + value + "'", value);
-    out.objects = m;
+    // The one list of modes (core kObjectModeNames; proto/openapi.json's ObjectMode schema is generated from it).
+    const auto mode = volume::kObjectModeNames.find(lower(value));
+    if (!mode)
+      invalid_parameter(name, "objects must be " + volume::kObjectModeNames.expected() + ", not '" + value + "'", value);
+    out.objects = *mode;
   } else if (name == "min_voxels") {
     out.min_voxels = parse_int(name, value, 0, 2'000'000'000);
+  } else if (name == "fragment_gap") {
+    out.fragment_gap = parse_int(name, value, -1, 64);
+  } else if (name == "max_repair_share") {
+    out.max_repair_share = parse_non_negative(name, value);
   } else if (name == "drop_truncated") {
     const std::string b = lower(value);
     if (b == "true" || b == "1" || b == "yes") out.drop_truncated = true;
@@ -104,12 +120,12 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
       const auto [ptr, ec] = std::from_chars(item.data(), end, id);
       if (item.empty() || ec != std::errc() || ptr != end || id == 0)
         invalid_parameter(name, "parameter labels='" + value + "': '" + item + "' is not a label id (1..4294967295)", value);
-      out.labels.push_back(id);
+      out.label_ids.push_back(id);
     }
   } else {
     return false;
   }
-  out.given.push_back(name);
+  given.push_back(name);
   return true;
 }
 
@@ -118,7 +134,8 @@ bool parse_volume_param(const std::string& name, const std::string& value, Volum
 ComputeParams parse_compute_params(Operation op, const ParamMap& params, const ServerConfig& config) {
   static const std::set<std::string> known_describe{"lmax", "method", "steps", "include", "reconstruction_level",
                                                     "format", "spacing", "unit", "objects", "min_voxels",
-                                                    "drop_truncated", "labels", "threshold", "label_image", "level"};
+                                                    "drop_truncated", "labels", "threshold", "label_image", "level",
+                                                    "fragment_gap", "max_repair_share", "output"};
   ComputeParams out;
   std::set<std::string> seen;
   for (const auto& [name, raw] : params) {
@@ -130,7 +147,7 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
                               {{"parameter", name}});
     if (!seen.insert(name).second)
       throw InvalidInputError("invalid_parameter", "parameter '" + name + "' given more than once", {{"parameter", name}});
-    if (parse_volume_param(name, value, out.volume)) continue;
+    if (parse_volume_param(name, value, out.volume, out.volume_given)) continue;
     if (name == "model") {
       if (value.empty()) invalid_parameter(name, "parameter model is empty", value);
       out.model = value;
@@ -177,6 +194,14 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
         if (comma == std::string::npos) break;
         start = comma + 1;
       }
+    } else if (name == "output") {
+      const std::string v = lower(value);
+      if (v != "json" && v != "labels")
+        invalid_parameter(name, "output must be json or labels, not '" + value + "'", value);
+      if (v == "labels" && op != Operation::Classify)
+        invalid_parameter(name, "output=labels writes a class map, which needs a model: use /v1/classify", value);
+      out.output_labels = v == "labels";
+      out.volume_given.push_back(name);  // a label volume's answer only: refused with a mesh part
     } else if (name == "reconstruction_level") {
       out.reconstruction_level = parse_int(name, value, 0, 7);
     } else if (name == "format") {

@@ -13,26 +13,12 @@
 #include <vector>
 
 #include "core/pipeline/describe_overrides.hpp"
+#include "core/pipeline/volume_overrides.hpp"
 #include "server/config.hpp"
 
 namespace wish::server {
 
 enum class Operation { Describe, Classify };
-
-// How a label volume upload becomes objects; mirrors `wish mesh-labels` (cli/volume_options.hpp). Only for volume
-// parts: given with a mesh part they are refused, not ignored.
-struct VolumeParams {
-  std::optional<std::array<double, 3>> spacing;  // ?spacing=x,y,z: voxel size, overrides the file's; each > 0
-  std::optional<std::string> unit;               // ?unit=nm
-  std::string objects = "auto";                  // ?objects=auto|labels|components
-  std::int64_t min_voxels = 0;                   // ?min_voxels=N: smaller objects are dropped
-  bool drop_truncated = false;                   // ?drop_truncated=true: drop objects touching the border
-  std::vector<std::uint32_t> labels;             // ?labels=3,7,12: only these label ids (empty: all)
-  std::optional<double> threshold;               // ?threshold=T: foreground is value >= T (auto / components)
-  std::string label_image;                       // ?label_image=cells: an OME-Zarr upload's labels/<name> (CLI --labels)
-  int level = 0;                                 // ?level=N: an OME-Zarr upload's multiscale level (CLI --level)
-  std::vector<std::string> given;                // names of the volume parameters the request set
-};
 
 struct ComputeParams {
   std::string model;                  // classify: "" -> the default model
@@ -46,7 +32,14 @@ struct ComputeParams {
   bool include_mesh = false, include_sphere = false, include_distortion = false;  // the "geometry" block
   int reconstruction_level = 3;
   std::string format;                 // "obj" | "ply" | "off" | "stl" | "" (hint only; content detection wins)
-  VolumeParams volume;
+  // A label volume's settings (?spacing=, ?unit=, ?objects=, ?threshold=, ?min_voxels=, ?fragment_gap=,
+  // ?drop_truncated=, ?labels=, ?max_repair_share=, ?label_image=, ?level=): the typed value the CLI's flags fill too
+  // (core/pipeline/volume_overrides.hpp). Only for volume parts: given with a mesh part they are refused, not ignored.
+  VolumeOverrides volume;
+  std::vector<std::string> volume_given;  // names of the volume parameters the request set
+  // ?output=labels (classify, label volumes only): the answer carries the class map too, in the upload's format
+  // (VolumeResult.class_map: core/pipeline/class_map.hpp, base64 in the JSON).
+  bool output_labels = false;
   bool explicit_descriptor() const { return descriptor.any(); }
 };
 

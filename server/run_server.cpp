@@ -32,8 +32,11 @@ int run_server(ServerConfig config) {
   spdlog::info("BLAS: {}; compute workers use 1 OpenMP and 1 BLAS thread each", wish::linalg::describe_blas());
 
   if (!config.web_dir.empty() && !std::filesystem::is_regular_file(config.web_dir / "index.html"))
-    spdlog::warn("web page: no index.html in {} (build it: cmake --build ... --target wish_web); GET / is 404",
+    spdlog::warn("web page: no index.html in {} (the page is web/src of the source tree); GET / is 404",
                  config.web_dir.string());
+  if (!config.web_dir.empty() && !std::filesystem::is_regular_file(config.three_dir / "build" / "three.module.js"))
+    spdlog::warn("web page: no three.js in '{}' (Debian's libjs-three: scripts/install-deps.sh installs it); the "
+                 "page's 3-D views will not load", config.three_dir.string());
 
   ModelRegistry models(config.models_dir, config.default_model);
   models.reload();

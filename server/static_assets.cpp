@@ -67,4 +67,21 @@ StaticAsset load_static_asset(const std::filesystem::path& root, const std::stri
   return asset;
 }
 
+std::vector<WebMount> web_mounts(const std::filesystem::path& page_dir, const std::filesystem::path& three_dir) {
+  std::vector<WebMount> mounts;
+  if (!page_dir.empty()) mounts.push_back({"/", page_dir});
+  if (!three_dir.empty()) mounts.push_back({kThreeUrlPrefix, three_dir});
+  return mounts;
+}
+
+StaticAsset load_web_file(const std::vector<WebMount>& mounts, const std::string& url_path) {
+  const WebMount* best = nullptr;
+  for (const auto& mount : mounts)
+    if (url_path.starts_with(mount.url_prefix) && (!best || mount.url_prefix.size() > best->url_prefix.size()))
+      best = &mount;
+  if (!best) return StaticAsset{};
+  // The prefix's last "/" starts the path inside the mount's root.
+  return load_static_asset(best->root, url_path.substr(best->url_prefix.size() - 1));
+}
+
 }  // namespace wish::server

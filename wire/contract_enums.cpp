@@ -8,6 +8,7 @@
 #include "core/geometry/laplacian_kind_names.hpp"
 #include "core/sh/sh_fit_names.hpp"
 #include "core/spherical_map/map_types.hpp"
+#include "core/volume/object_mode.hpp"
 
 namespace wish::wire {
 
@@ -58,6 +59,10 @@ std::vector<ContractEnum> contract_enums() {
                  "What a model does with a descriptor whose map came from another method than its recipe's: refuse "
                  "(422 off_recipe) or predict with recipe_match false",
                  "core/classify/recipe_names.hpp"),
+      from_table("ObjectMode", volume::kObjectModeNames,
+                 "How a label volume's objects are found: auto (decided from the values), labels (each value one "
+                 "object) or components (6-connected parts of a mask)",
+                 "core/volume/object_mode.hpp"),
   };
 }
 

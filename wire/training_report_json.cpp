@@ -68,7 +68,8 @@ nlohmann::json training_report_json(const TrainingReport& r) {
         {"capped_fits", int_matrix_json(r.grid.capped_fits)}, {"capped_fits_total", r.grid.total_capped_fits()},
         {"cells_skipped", r.grid.cells_skipped}, {"precomputed_kernel", r.grid.precomputed_kernel},
         {"early_stop",
-         {{"enabled", r.grid.early_stop}, {"drop", r.grid.early_stop_drop}, {"patience", r.grid.early_stop_patience}}}}},
+         {{"enabled", r.grid.early_stop}, {"drop", r.grid.early_stop_drop}, {"patience", r.grid.early_stop_patience}}},
+        {"method", r.grid.method}, {"reason", r.search_reason}, {"search_rows", r.grid.search_rows}}},
       {"train_accuracy", r.train_accuracy},
       {"final_fit_capped_solvers", r.final_fit_cap_warnings},
       {"test",
@@ -78,8 +79,17 @@ nlohmann::json training_report_json(const TrainingReport& r) {
       {"nested_cv",
        {{"folds", r.nested.scores.size()}, {"scores", r.nested.scores}, {"mean", r.nested.mean}, {"std", r.nested.std},
         {"chosen", chosen}, {"seconds", r.seconds_nested}, {"fits", r.nested.fits},
-        {"capped_fits", r.nested.capped_fits}, {"cells_skipped", r.nested.cells_skipped}}},
+        {"capped_fits", r.nested.capped_fits}, {"cells_skipped", r.nested.cells_skipped},
+        {"repeats", r.nested.repeats}, {"outer_folds", r.nested.outer_folds},
+        {"interval95", r.nested.interval95 ? json::array({r.nested.interval95->low, r.nested.interval95->high}) : json()}}},
       {"seconds", r.seconds_total}};
+  if (!r.grid.rungs.empty()) {
+    json rungs = json::array();
+    for (const auto& g : r.grid.rungs)
+      rungs.push_back({{"rows", g.rows}, {"candidates", g.candidates}, {"splits", g.splits}, {"fits", g.fits}, {"seconds", g.seconds}});
+    doc["grid"]["rungs"] = rungs;
+    doc["grid"]["cell_rung"] = int_matrix_json(r.grid.cell_rung);
+  }
   if (!r.test_novel.empty() || r.novelty_threshold > 0) {
     int flagged = 0;
     for (bool b : r.test_novel) flagged += b;

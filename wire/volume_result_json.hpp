@@ -15,5 +15,7 @@ nlohmann::json volume_summary_json(const VolumeSummary& summary);
 // VolumeObjectEntry and the CLI's per-object rows (`wish describe|predict --json`) carry the same block. `unit` is
 // the volume's, the unit of the centroid, area and volumes.
 nlohmann::json volume_object_json(const VolumeObjectResult& object, const std::string& unit);
+// The object's "topology" block: genus before, whether handles were removed, and how (method, voxels, volume change).
+nlohmann::json topology_json(const SurfaceFigures& surface);
 
 }  // namespace wish::wire

@@ -278,6 +278,21 @@ ShDescriptor descriptor_from_json(const nlohmann::json& json) {
   }
 }
 
+nlohmann::json novelty_explanation_json(const NoveltyAssessment& n, const std::vector<std::string>& labels) {
+  nlohmann::json out = nlohmann::json::object();
+  if (n.class_ratios.size() != labels.size() || labels.size() < 2) return out;
+  std::vector<std::size_t> order(labels.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return n.class_ratios[a] < n.class_ratios[b]; });
+  nlohmann::json classes = nlohmann::json::array();
+  for (std::size_t i : order) classes.push_back({{"label", labels[i]}, {"ratio", json_number(n.class_ratios[i])}});
+  const auto g = static_cast<std::size_t>(n.group);
+  out["nearest_class"] = g < labels.size() ? labels[g] : labels[order.front()];
+  out["distance_ratio"] = json_number(g < labels.size() ? n.class_ratios[g] : n.class_ratios[order.front()]);
+  out["classes"] = std::move(classes);
+  return out;
+}
+
 nlohmann::json prediction_json(const Prediction& p, const std::string& model_name, const std::string& model_version,
                                const std::optional<RecipeConformance>& recipe) {
   nlohmann::json probs = nlohmann::json::array();
@@ -294,6 +309,9 @@ nlohmann::json prediction_json(const Prediction& p, const std::string& model_nam
                       {"p_value", json_number(p.novelty->p_value)},
                       {"threshold", json_number(p.novelty->threshold)},
                       {"quantile", json_number(p.novelty->quantile)}};
+    std::vector<std::string> labels;
+    for (const auto& [label, prob] : p.probabilities) labels.push_back(label);
+    out["novelty"].update(novelty_explanation_json(*p.novelty, labels));
   } else {
     out["novelty"] = {{"computed", false},
                       {"reason", "the model has no novelty calibration (a model file written before format 3)"}};

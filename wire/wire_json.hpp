@@ -63,7 +63,13 @@ ShDescriptor descriptor_from_json(const nlohmann::json& json);
 // plus, when the recipe check ran: "recipe_match" (false: the map came from another method than the model's,
 // accepted by its off_recipe policy), "method_used", "recipe_method"; always "novel" (true: none of the known
 // types, by the model's novelty threshold; null: not computed) and "novelty" ({"computed": true, "score",
-// "p_value", "threshold", "quantile"} or {"computed": false, "reason"}).
+// "p_value", "threshold", "quantile", and novelty_explanation_json's keys} or {"computed": false, "reason"}).
+// Why a sample is (not) novel (issue 38 item 3), merged into a "novelty" object: "nearest_class" (the class it is
+// most like, relative to that class's spread), "distance_ratio" (its score over that class's threshold: the
+// distance in units of the class's calibration spread; novel above 1) and "classes": [{"label", "ratio"}] for every
+// class, nearest first. Empty (nothing to merge) for a one-set figure (model format 3), which has no classes.
+// `labels`: the model's classes in its order.
+nlohmann::json novelty_explanation_json(const NoveltyAssessment& novelty, const std::vector<std::string>& labels);
 nlohmann::json prediction_json(const Prediction& prediction, const std::string& model_name,
                                const std::string& model_version,
                                const std::optional<RecipeConformance>& recipe = std::nullopt);

@@ -49,7 +49,7 @@ Prediction ClassifierModel::predict(const ShapeFeatures& features, const Predict
   const int a = std::min(w, r), b = std::max(w, r);
   const double d = out.decision[a * k - a * (a + 1) / 2 + (b - a - 1)];
   p.margin = w == a ? d : -d;
-  if (s.novelty) p.novelty = assess_novelty(*s.novelty, x, options.novelty_quantile);
+  if (s.novelty) p.novelty = assess_novelty(*s.novelty, x, options.novelty_quantile, w);
   return p;
 }
 

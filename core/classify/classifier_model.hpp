@@ -23,6 +23,10 @@ namespace wish {
 struct ShapeFeatures {
   Eigen::VectorXd invariants;  // xi(0..Lmax)
   Eigen::VectorXd global;      // global_shape_descriptors(mesh)
+  // Computed only when a recipe's family uses them (empty otherwise):
+  Eigen::VectorXd laplace_spectrum;  // λ_1..λ_n · A/(4π), ascending (laplace_spectrum.hpp)
+  Eigen::VectorXd canonical_sh;      // canonical real SH coefficients of degrees 1..Lmax, flattened as
+                                     // canonical_sh_features(.., 1, Lmax) (core/sh/sh_canonical_frame.hpp)
 };
 
 struct Prediction {
@@ -78,7 +82,10 @@ class ClassifierModel {
   // files keep loading and computing their Euclidean figure.
   // 6: payload.novelty.calibration_folds (the per-class scores are cross-validated, not leave-one-out; an option,
   // novelty.hpp). Prediction computes the same figure. Models with leave-one-out scores are still written as 5.
-  static constexpr int kFormatVersion = 6;
+  // 7: payload.novelty.rule = "predicted_class" (novelty.hpp NoveltyRule: the class the SVM predicts decides;
+  // issue 38); calibration_folds and whitening as format 6 (each only when used). Models with the nearest-class
+  // rule are written as before (5 or 6).
+  static constexpr int kFormatVersion = 7;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.

@@ -163,6 +163,8 @@ std::vector<FamilyScore> compare_feature_families(const std::vector<TrainingSamp
     TrainOptions u = options;
     u.recipe.features.family = feature_family_from_name(family);
     u.progress = nullptr;
+    u.probability = false;  // the comparison keeps figures, not models: no Platt fit, no novelty calibration
+    u.novelty = false;
     if (on_family) on_family(family);
     rows.push_back(family_score(family, train_classifier(samples, u).report));
   }

@@ -6,6 +6,8 @@
 
 #include "core/common/enum_names.hpp"
 #include "core/common/errors.hpp"
+#include "core/classify/feature_pipeline.hpp"
+#include "core/classify/laplace_spectrum.hpp"
 #include "core/classify/recipe_names.hpp"
 #include "core/spherical_map/flow_step_cap.hpp"
 
@@ -23,9 +25,18 @@ void validate_recipe(const DescriptorRecipe& r, const std::string& code) {
   if (r.features.l_min < 0 || r.features.l_min > r.features.l_max)
     throw InvalidInputError(code, "recipe features use xi(" + std::to_string(r.features.l_min) + ".." +
                                       std::to_string(r.features.l_max) + "), an empty or negative range");
-  if (r.uses_invariants() && r.features.l_max > r.sh.lmax)
-    throw InvalidInputError(code, "recipe features use xi(" + std::to_string(r.features.l_max) +
-                                      ") but descriptors are fitted up to Lmax " + std::to_string(r.sh.lmax));
+  const FamilyBlocks blocks = family_blocks(r.features.family);
+  if ((blocks.invariants || blocks.canonical_sh) && r.features.l_max > r.sh.lmax)
+    throw InvalidInputError(code, std::string("recipe features use ") + (blocks.invariants ? "xi(" : "SH coefficients of degree ") +
+                                      std::to_string(r.features.l_max) + (blocks.invariants ? ")" : "") +
+                                      " but descriptors are fitted up to Lmax " + std::to_string(r.sh.lmax));
+  if (blocks.canonical_sh && r.features.l_min < 1)
+    throw InvalidInputError(code, "recipe features use canonical SH coefficients from degree " +
+                                      std::to_string(r.features.l_min) + "; degree 0 is the position, l_min must be >= 1");
+  if (r.features.spectrum_count < (blocks.spectrum ? 1 : 0) || r.features.spectrum_count > kMaxSpectrumCount)
+    throw InvalidInputError(code, "recipe features.spectrum_count " + std::to_string(r.features.spectrum_count) + " for family " +
+                                      to_string(r.features.family) + ": must be in " + (blocks.spectrum ? "1" : "0") + ".." +
+                                      std::to_string(kMaxSpectrumCount));
 }
 
 RecipeConformance check_recipe(const DescriptorRecipe& recipe, const SphericalMapResult& map) {
@@ -72,6 +83,8 @@ namespace {
 struct VersionOfFields {
   int version = 1;
   template <class T> void field(const char*, const T&) {}
+  // A family added after version 1 makes the file of its version (an older reader refuses it by number).
+  void field(const char*, const FeatureFamily& family) { version = std::max(version, feature_family_version(family)); }
   template <class F> void group(const char*, F&& fill) { fill(*this); }
   template <class T> void added(int since, const char*, const T& value, const T& legacy) {
     if (!(value == legacy)) version = std::max(version, since);

@@ -9,12 +9,41 @@
 
 #include <string>
 
+#include "core/classify/laplace_spectrum.hpp"
 #include "core/sh/sh_descriptor.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 
 namespace wish {
 
-enum class FeatureFamily { Invariants, Global, Combined };
+// Which features the SVM sees (docs/accuracy.md has the table that measures them). Invariants: the paper's xi(l);
+// Global: rotation-invariant shape measures of the mesh (global_descriptors.hpp); Spectrum: ShapeDNA, the first
+// eigenvalues of the Laplace-Beltrami operator (laplace_spectrum.hpp; intrinsic, bending-invariant); CanonicalSh:
+// the SH coefficients in the first-order-ellipsoid frame (core/sh/sh_canonical_frame.hpp; keeps the phases xi
+// discards). The later families were added in recipe version 4 (issue 38).
+enum class FeatureFamily { Invariants, Global, Combined, Spectrum, SpectrumGlobal, CanonicalSh, CanonicalShGlobal, All };
+
+// The blocks of a family's feature vector, in the order the pipeline writes them: xi(l_min..l_max), the spectrum
+// (lb_1..lb_count), the canonical SH coefficients of degrees l_min..l_max, the global descriptors.
+struct FamilyBlocks {
+  bool invariants = false, spectrum = false, canonical_sh = false, global = false;
+};
+constexpr FamilyBlocks family_blocks(FeatureFamily family) {
+  switch (family) {
+    case FeatureFamily::Invariants: return {true, false, false, false};
+    case FeatureFamily::Global: return {false, false, false, true};
+    case FeatureFamily::Combined: return {true, false, false, true};
+    case FeatureFamily::Spectrum: return {false, true, false, false};
+    case FeatureFamily::SpectrumGlobal: return {false, true, false, true};
+    case FeatureFamily::CanonicalSh: return {false, false, true, false};
+    case FeatureFamily::CanonicalShGlobal: return {false, false, true, true};
+    case FeatureFamily::All: return {true, true, true, true};
+  }
+  return {};
+}
+// The recipe version that introduced the family (1 for the paper's three, 4 for the others).
+constexpr int feature_family_version(FeatureFamily family) {
+  return family == FeatureFamily::Invariants || family == FeatureFamily::Global || family == FeatureFamily::Combined ? 1 : 4;
+}
 enum class ScaleNormalization { None, ByFirstInvariant, ByArea };  // xi(l)/xi(1), or xi(l)/surface area
 
 struct FeatureSpec {
@@ -23,6 +52,9 @@ struct FeatureSpec {
   ScaleNormalization scale = ScaleNormalization::None;
   bool log_transform = false;               // log(x) of the (normalised) energies
   bool global_scale_free = false;           // Global/Combined: only the scale-free global descriptors
+  // Families with the spectrum: how many Laplace-Beltrami eigenvalues (lb_1..lb_n); unused by the others.
+  // Recipe version 4; files of older versions read the legacy 0 (no spectrum).
+  int spectrum_count = kDefaultSpectrumCount;
   bool operator==(const FeatureSpec&) const = default;
 };
 
@@ -53,9 +85,17 @@ struct DescriptorRecipe {
 
   // ByArea normalisation needs the mesh area, which is one of the global descriptors.
   bool needs_global_features() const {
-    return features.family != FeatureFamily::Invariants || features.scale == ScaleNormalization::ByArea;
+    const FamilyBlocks b = family_blocks(features.family);
+    return b.global || ((b.invariants || b.canonical_sh) && features.scale == ScaleNormalization::ByArea);
   }
-  bool uses_invariants() const { return features.family != FeatureFamily::Global; }
+  bool uses_invariants() const { return family_blocks(features.family).invariants; }
+  // xi(1) normalises the canonical coefficients too (ScaleNormalization::ByFirstInvariant).
+  bool needs_invariants() const {
+    const FamilyBlocks b = family_blocks(features.family);
+    return b.invariants || (b.canonical_sh && features.scale == ScaleNormalization::ByFirstInvariant);
+  }
+  bool needs_laplace_spectrum() const { return family_blocks(features.family).spectrum; }
+  bool needs_canonical_sh() const { return family_blocks(features.family).canonical_sh; }
 };
 
 // The recipe version a file of this recipe gets: the highest version that introduced a field whose value differs
@@ -63,7 +103,8 @@ struct DescriptorRecipe {
 // same descriptor from the file can read it.
 int recipe_version_of(const DescriptorRecipe& recipe);
 
-// Throws InvalidInputError(code, ...) when the parts disagree (features use xi(l) above sh.lmax, bad l range).
+// Throws InvalidInputError(code, ...) when the parts disagree (features use xi(l) above sh.lmax, bad l range, a
+// spectrum count out of range, or none for a family with the spectrum).
 void validate_recipe(const DescriptorRecipe& recipe, const std::string& code = "invalid_recipe");
 
 // The flow step cap of the recipe's map method (what a request's `steps` is compared with; the linear map has

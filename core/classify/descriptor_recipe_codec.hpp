@@ -10,6 +10,9 @@
 //      legacy value but without a bump), map.area_correction (the bump).
 //   3  map.chain_budget_seconds, map.linear_reserve_seconds, map.cmcf.stall_patience (added 2026-12-02 without a
 //      bump, so a version-2 build read such files with its own defaults; issue 27).
+//   4  features.spectrum_count (legacy 0: no spectrum) and the feature families spectrum, spectrum_global, canonical_sh,
+//      canonical_sh_global, all (issue 38): a file with one of those families is of version 4 whatever its fields
+//      (feature_family_version), so an older reader refuses it by number.
 //   5  map.canonical (the canonical map the descriptor is computed on, issue 37) and sh.sampling (vertex or surface
 //      samples of the SH fit).
 // Retired: map.min_fallback_flow_seconds (in version-2 files of 2026-12-02; 0 is what this build computes).
@@ -132,6 +135,7 @@ void visit_recipe(Visitor& v, Recipe& d) {
     f.field("scale", d.features.scale);
     f.field("log", d.features.log_transform);
     f.field("global_scale_free", d.features.global_scale_free);
+    f.added(4, "spectrum_count", d.features.spectrum_count, 0);
     // The column names feature_names(features), written for readers of the file and checked on load.
     f.derived("names");
   });

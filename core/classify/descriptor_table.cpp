@@ -4,6 +4,8 @@
 #include <sstream>
 
 #include "core/classify/global_descriptors.hpp"
+#include "core/sh/sh_basis.hpp"
+#include "core/sh/sh_canonical_frame.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
@@ -73,7 +75,8 @@ DescriptorTable read_table(const std::string& csv_text, const std::map<std::stri
   const auto& header = rows[0];
   int file_col = -1, label_col = -1, label_id_col = -1;
   std::map<int, int> xi_col;  // l -> column
-  std::map<std::string, int> g_col;
+  std::map<std::string, int> g_col, csh_col;
+  std::map<int, int> lb_col;  // i -> column
   for (int c = 0; c < static_cast<int>(header.size()); ++c) {
     const std::string& h = header[c];
     if (h == "file" || h == "path") file_col = c;
@@ -81,6 +84,8 @@ DescriptorTable read_table(const std::string& csv_text, const std::map<std::stri
     else if (h == "label_id") label_id_col = c;
     else if (h.rfind("xi_", 0) == 0) xi_col[std::atoi(h.c_str() + 3)] = c;
     else if (h.rfind("g_", 0) == 0) g_col[h.substr(2)] = c;
+    else if (h.rfind("lb_", 0) == 0) lb_col[std::atoi(h.c_str() + 3)] = c;
+    else if (h.rfind("csh_", 0) == 0) csh_col[h] = c;
   }
   if (file_col < 0) bad("the descriptor CSV has no 'file' column");
   if (xi_col.empty()) bad("the descriptor CSV has no xi_<l> columns");
@@ -90,6 +95,20 @@ DescriptorTable read_table(const std::string& csv_text, const std::map<std::stri
     if (!xi_col.count(l)) bad("the descriptor CSV lacks column xi_" + std::to_string(l));
   t.has_global = true;
   for (const auto& name : global_descriptor_names()) t.has_global = t.has_global && g_col.count(name);
+  // The spectrum lb_1..lb_n and the canonical coefficients of degrees 1..L: complete blocks or none.
+  const int n_lb = lb_col.empty() ? 0 : lb_col.rbegin()->first;
+  for (int i = 1; i <= n_lb; ++i)
+    if (!lb_col.count(i)) bad("the descriptor CSV lacks column lb_" + std::to_string(i));
+  std::vector<int> csh_order;
+  if (!csh_col.empty()) {
+    int L = 1;
+    while (3 * (sh_count(L) - 1) < static_cast<int>(csh_col.size())) ++L;
+    for (const auto& name : canonical_sh_feature_names(1, L)) {
+      const auto it = csh_col.find(name);
+      if (it == csh_col.end()) bad("the descriptor CSV lacks column " + name + " of the canonical SH coefficients");
+      csh_order.push_back(it->second);
+    }
+  }
   if (label_col < 0 && labels.empty() && !keep_unlabelled) bad("the descriptor CSV has no 'label' column; pass a labels manifest (path,label)");
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -119,6 +138,11 @@ DescriptorTable read_table(const std::string& csv_text, const std::map<std::stri
       for (int g = 0; g < kGlobalCount; ++g)
         s.features.global(g) = to_double(r[g_col[global_descriptor_names()[g]]], i + 1, "g_" + global_descriptor_names()[g]);
     }
+    s.features.laplace_spectrum.resize(n_lb);
+    for (int k = 1; k <= n_lb; ++k) s.features.laplace_spectrum(k - 1) = to_double(r[lb_col[k]], i + 1, "lb_" + std::to_string(k));
+    s.features.canonical_sh.resize(static_cast<Eigen::Index>(csh_order.size()));
+    for (std::size_t k = 0; k < csh_order.size(); ++k)
+      s.features.canonical_sh(static_cast<Eigen::Index>(k)) = to_double(r[csh_order[k]], i + 1, header[csh_order[k]]);
     t.samples.push_back(std::move(s));
   }
   return t;
@@ -140,6 +164,12 @@ std::string write_descriptor_table(const std::vector<TrainingSample>& samples) {
   for (int l = 0; l <= lmax; ++l) o << ",xi_" << l;
   if (global)
     for (const auto& name : global_descriptor_names()) o << ",g_" << name;
+  // The spectrum and the canonical coefficients when they were computed (families that use them).
+  const Eigen::Index n_lb = samples.empty() ? 0 : samples[0].features.laplace_spectrum.size();
+  const Eigen::Index n_csh = samples.empty() ? 0 : samples[0].features.canonical_sh.size();
+  for (Eigen::Index i = 1; i <= n_lb; ++i) o << ",lb_" << i;
+  if (n_csh > 0)
+    for (const auto& name : canonical_sh_feature_names(1, sh_lmax_from_count(n_csh / 3 + 1))) o << "," << name;
   o << "\n";
   o.precision(17);
   for (const auto& s : samples) {
@@ -147,6 +177,8 @@ std::string write_descriptor_table(const std::vector<TrainingSample>& samples) {
     for (int l = 0; l <= lmax; ++l) o << "," << s.features.invariants(l);
     if (global)
       for (int g = 0; g < kGlobalCount; ++g) o << "," << s.features.global(g);
+    for (Eigen::Index i = 0; i < n_lb; ++i) o << "," << s.features.laplace_spectrum(i);
+    for (Eigen::Index i = 0; i < n_csh; ++i) o << "," << s.features.canonical_sh(i);
     o << "\n";
   }
   return o.str();

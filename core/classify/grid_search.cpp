@@ -10,10 +10,10 @@
 #include <exception>
 #include <mutex>
 #include <thread>
-#include <ctime>
 
 #include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/svm_engine.hpp"
+#include "core/common/cpu_budget.hpp"
 #include "core/common/errors.hpp"
 
 namespace wish {
@@ -51,6 +51,16 @@ void parallel_for(int n, int jobs, const std::function<void(int)>& f) {
   if (error) std::rethrow_exception(error);
 }
 
+bool EarlyStopRow::stop_after(double mean) {
+  if (first_ < 0) first_ = mean;
+  // Only a row that has risen above its first cell can have passed its peak; a flat start (every sample in one
+  // class's region, as at the tiny gammas) is not a plateau.
+  const bool risen = best_ > first_;
+  fallen_ = risen && mean <= best_ - drop_ ? fallen_ + 1 : 0;
+  best_ = std::max(best_, mean);
+  return fallen_ >= patience_;
+}
+
 namespace {
 
 Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
@@ -61,13 +71,29 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& X, const std::vector<int>& idx) {
 
 }  // namespace
 
-namespace {
-
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+SplitMatrices::SplitMatrices(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits) {
+  for (const Split& s : splits) {
+    train_x.push_back(rows_of(X, s.train));
+    test_x.push_back(rows_of(X, s.test));
+    std::vector<int> a;
+    for (int i : s.train) a.push_back(y[i]);
+    train_y.push_back(std::move(a));
+  }
 }
+
+PrecomputedKernel::FitScore fit_split(const PrecomputedKernel* kernel, const SplitMatrices& rows,
+                                      const std::vector<Split>& splits, std::size_t s, const std::vector<int>& y,
+                                      const SvmParams& params) {
+  const Split& split = splits[s];
+  if (kernel) return kernel->fit_and_score(split.train, split.test, y, params);
+  PrecomputedKernel::FitScore score;
+  const SvmEngine svm = SvmEngine::train(rows.train_x[s], rows.train_y[s], params, 0, &score.iteration_cap_warnings);
+  for (std::size_t i = 0; i < split.test.size(); ++i)
+    score.correct += svm.predict_label(rows.test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
+  return score;
+}
+
+namespace {
 
 struct CellStats {
   double mean = 0, std = 0;
@@ -87,20 +113,10 @@ CellStats stats_of(const std::vector<double>& scores) {
 void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
                           const GridSearchOptions& options, GridSearchResult& r) {
   const int nc = static_cast<int>(r.Cs.size()), ng = static_cast<int>(r.gammas.size());
-  std::vector<Eigen::MatrixXd> train_x, test_x;
-  std::vector<std::vector<int>> train_y, test_y;
-  for (const Split& s : splits) {
-    train_x.push_back(rows_of(X, s.train));
-    test_x.push_back(rows_of(X, s.test));
-    std::vector<int> a, b;
-    for (int i : s.train) a.push_back(y[i]);
-    for (int i : s.test) b.push_back(y[i]);
-    train_y.push_back(std::move(a));
-    test_y.push_back(std::move(b));
-  }
+  const SplitMatrices rows(X, y, splits);
   parallel_for(nc * ng, options.jobs, [&](int cell) {
     const int ci = cell / ng, gi = cell % ng;
-    const double cell_start = thread_cpu_seconds();
+    const double cell_start = CpuBudget::thread_cpu_seconds();
     SvmParams params;
     params.C = r.Cs[ci];
     params.gamma = r.gammas[gi];
@@ -108,19 +124,15 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
     std::vector<double> scores;
     int capped = 0;
     for (std::size_t s = 0; s < splits.size(); ++s) {
-      int warnings = 0;
-      const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
-      capped += warnings > 0;
-      std::size_t correct = 0;
-      for (Eigen::Index i = 0; i < test_x[s].rows(); ++i)
-        correct += svm.predict_label(test_x[s].row(i).transpose()) == test_y[s][static_cast<std::size_t>(i)];
-      scores.push_back(static_cast<double>(correct) / static_cast<double>(test_x[s].rows()));
+      const auto fit = fit_split(nullptr, rows, splits, s, y, params);
+      capped += fit.iteration_cap_warnings > 0;
+      scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
     }
     const CellStats st = stats_of(scores);
     r.mean_score(ci, gi) = st.mean;
     r.std_score(ci, gi) = st.std;
     r.capped_fits(ci, gi) = capped;
-    r.cell_cpu_seconds(ci, gi) = thread_cpu_seconds() - cell_start;
+    r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
   });
 }
 
@@ -132,28 +144,18 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
   std::iota(c_order.begin(), c_order.end(), 0);
   std::stable_sort(c_order.begin(), c_order.end(), [&](int a, int b) { return r.Cs[a] < r.Cs[b]; });
   const Eigen::MatrixXd D = options.precomputed_kernel ? pairwise_squared_distances(X) : Eigen::MatrixXd();
-  std::vector<Eigen::MatrixXd> train_x, test_x;
-  std::vector<std::vector<int>> train_y;
-  if (!options.precomputed_kernel)
-    for (const Split& s : splits) {
-      train_x.push_back(rows_of(X, s.train));
-      test_x.push_back(rows_of(X, s.test));
-      std::vector<int> a;
-      for (int i : s.train) a.push_back(y[i]);
-      train_y.push_back(std::move(a));
-    }
+  const SplitMatrices rows = options.precomputed_kernel ? SplitMatrices() : SplitMatrices(X, y, splits);
   parallel_for(ng, options.jobs, [&](int gi) {
     std::optional<PrecomputedKernel> kernel;
     if (options.precomputed_kernel) kernel.emplace(D, r.gammas[gi]);
-    double row_best = -1, row_first = std::numeric_limits<double>::quiet_NaN();
-    int fallen = 0;
+    EarlyStopRow rule(options.early_stop_drop, options.early_stop_patience);
     bool stopped = false;
     for (int ci : c_order) {
       if (stopped) {
         r.mean_score(ci, gi) = r.std_score(ci, gi) = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
-      const double cell_start = thread_cpu_seconds();
+      const double cell_start = CpuBudget::thread_cpu_seconds();
       SvmParams params;
       params.C = r.Cs[ci];
       params.gamma = r.gammas[gi];
@@ -161,33 +163,17 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
       std::vector<double> scores;
       int capped = 0;
       for (std::size_t s = 0; s < splits.size(); ++s) {
-        const Split& split = splits[s];
-        int correct = 0, warnings = 0;
-        if (kernel) {
-          const auto fit = kernel->fit_and_score(split.train, split.test, y, params);
-          correct = fit.correct;
-          warnings = fit.iteration_cap_warnings;
-        } else {
-          const SvmEngine svm = SvmEngine::train(train_x[s], train_y[s], params, 0, &warnings);
-          for (std::size_t i = 0; i < split.test.size(); ++i)
-            correct += svm.predict_label(test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
-        }
-        capped += warnings > 0;
-        scores.push_back(static_cast<double>(correct) / static_cast<double>(split.test.size()));
+        const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, s, y, params);
+        capped += fit.iteration_cap_warnings > 0;
+        scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
       }
       const CellStats st = stats_of(scores);
       r.mean_score(ci, gi) = st.mean;
       r.std_score(ci, gi) = st.std;
       r.capped_fits(ci, gi) = capped;
-      r.cell_cpu_seconds(ci, gi) = thread_cpu_seconds() - cell_start;
+      r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
       if (!options.early_stop) continue;
-      if (std::isnan(row_first)) row_first = st.mean;
-      // Only a row that has risen above its first cell can have passed its peak; a flat start (every sample in one
-      // class's region, as at the tiny gammas) is not a plateau.
-      const bool risen = row_best > row_first;
-      fallen = risen && st.mean <= row_best - options.early_stop_drop ? fallen + 1 : 0;
-      row_best = std::max(row_best, st.mean);
-      stopped = fallen >= options.early_stop_patience;
+      stopped = rule.stop_after(st.mean);
     }
   });
 }
@@ -227,6 +213,7 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
         r.best_gamma = gi;
       }
     }
+  r.search_rows = static_cast<int>(X.rows());
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

@@ -22,10 +22,12 @@
 // Every fit that stops at libsvm's iteration cap (not converged) is counted per cell.
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/splits.hpp"
 
 namespace wish {
@@ -42,7 +44,14 @@ struct GridSearchOptions {
   int early_stop_patience = 1;
 };
 
+// One rung of a successive-halving search (successive_halving.hpp): its cells scored on `rows` training rows.
+struct HalvingRung {
+  int rows = 0, candidates = 0, splits = 0, fits = 0;
+  double seconds = 0;
+};
+
 struct GridSearchResult {
+  std::string method = "grid";            // "grid" (every cell on all rows, early stop) or "halving"
   std::vector<double> Cs, gammas;
   Eigen::MatrixXd mean_score, std_score;  // Cs.size() by gammas.size(); NaN where early stop skipped the cell
   Eigen::MatrixXi capped_fits;            // per cell: split fits with a solver stopped at libsvm's iteration cap
@@ -53,6 +62,9 @@ struct GridSearchResult {
   double early_stop_drop = 0;
   int early_stop_patience = 0;
   bool precomputed_kernel = false;
+  std::vector<HalvingRung> rungs;         // halving only: the schedule, first rung first
+  Eigen::MatrixXi cell_rung;              // halving only: per cell the last rung that scored it (its mean_score's)
+  int search_rows = 0;                    // training rows the best cell was scored on (all rows for "grid")
   int best_c = 0, best_gamma = 0;         // indices
   double best_score = 0;
   double seconds = 0;
@@ -60,6 +72,35 @@ struct GridSearchResult {
   double C() const { return Cs[best_c]; }
   double gamma() const { return gammas[best_gamma]; }
 };
+
+// The early-stop rule above for one gamma row, fed the row's mean validation accuracies in ascending C (grid_search
+// and each rung of successive_halving.hpp).
+class EarlyStopRow {
+ public:
+  EarlyStopRow(double drop, int patience) : drop_(drop), patience_(patience) {}
+  // Records the next cell's mean accuracy; true when the row stops after it (its larger C are skipped).
+  bool stop_after(double mean);
+
+ private:
+  double drop_;
+  int patience_;
+  double first_ = -1, best_ = -1;
+  int fallen_ = 0;
+};
+
+// The rows of each split as matrices, for fits with libsvm's own RBF kernel.
+struct SplitMatrices {
+  std::vector<Eigen::MatrixXd> train_x, test_x;
+  std::vector<std::vector<int>> train_y;
+  SplitMatrices() = default;
+  SplitMatrices(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits);
+};
+
+// One fit of a cell (params, no probabilities) on splits[s], scored by votes on its test rows: on the precomputed
+// `kernel` (over the rows y indexes) when there is one, else with libsvm's RBF kernel on `rows`.
+PrecomputedKernel::FitScore fit_split(const PrecomputedKernel* kernel, const SplitMatrices& rows,
+                                      const std::vector<Split>& splits, std::size_t s, const std::vector<int>& y,
+                                      const SvmParams& params);
 
 // X: standardised features, one sample per row; y in 0..k-1; splits index rows of X.
 GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,

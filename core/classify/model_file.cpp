@@ -281,6 +281,7 @@ json payload_without_novelty(const ClassifierModel::State& s);
 //            loo_scores: [[...] per class]}.
 //  format 5: format 4's keys and whitening: [[...] per feature] (the symmetric matrix W of novelty.hpp).
 //  format 6: format 5's keys and calibration_folds (>= 2: loo_scores are cross-validated scores, novelty.hpp).
+//  format 7: format 6's keys and rule: "predicted_class" (novelty.hpp NoveltyRule; written only for that rule).
 //            A format-6 block without whitening (a Euclidean figure, cross-validated) is written as 6 too.
 // Each format's keys are exactly its own: a format-3 reader meets reference_classes and refuses the file by it
 // (model_version), and this build reads a format-3 block as the one-set figure it was written as.
@@ -291,6 +292,7 @@ json novelty_to_json(const NoveltyCalibration& c) {
     j["loo_scores"] = c.loo_scores;
     if (c.whitening.size() != 0) j["whitening"] = rows(c.whitening);
     if (c.calibration_folds > 0) j["calibration_folds"] = c.calibration_folds;
+    if (c.rule != NoveltyRule::NearestClass) j["rule"] = to_string(c.rule);
   } else {
     j["loo_scores"] = c.loo_scores.front();
   }
@@ -301,8 +303,11 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
   if (!j.is_object()) invalid("payload.novelty is not an object");
   NoveltyCalibration c;
   c.per_class = version >= 4;
-  const bool whitened = version >= 5, cross_validated = version >= 6;
-  if (cross_validated)
+  const bool whitened = version >= 5, cross_validated = version >= 6, with_rule = version >= 7;
+  if (with_rule)
+    refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores", "whitening", "calibration_folds", "rule"},
+                        "payload.novelty");
+  else if (cross_validated)
     refuse_unknown_keys(j, {"k", "quantile", "reference", "reference_classes", "loo_scores", "whitening", "calibration_folds"},
                         "payload.novelty");
   else if (whitened)
@@ -319,7 +324,13 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
     const json& lists = field(j, "loo_scores", "novelty");
     if (!lists.is_array()) invalid("novelty.loo_scores is not an array (one list per class)");
     for (const auto& l : lists) c.loo_scores.push_back(numbers(l, "novelty.loo_scores[]"));
-    if (cross_validated) {
+    if (with_rule && j.contains("rule")) {
+      const std::string rule = str(j, "rule", "novelty");
+      if (rule == to_string(NoveltyRule::PredictedClass)) c.rule = NoveltyRule::PredictedClass;
+      else if (rule != to_string(NoveltyRule::NearestClass)) invalid("novelty.rule '" + rule + "' is unknown");
+    }
+    // Format 7 writes calibration_folds only for cross-validated scores.
+    if (cross_validated && (!with_rule || j.contains("calibration_folds"))) {
       const std::int64_t folds = integer(j, "calibration_folds", "novelty");
       if (folds < 2 || folds > c.reference.rows())
         invalid("novelty.calibration_folds = " + std::to_string(folds) + " must be in 2.." + std::to_string(c.reference.rows()));
@@ -444,6 +455,7 @@ json document_of(const ClassifierModel::State& s) {
   // readers of older versions refuse it by number and a model without novelty stays readable by version 2.
   const int version = !s.novelty                        ? 2
                       : !s.novelty->per_class            ? 3
+                      : s.novelty->rule != NoveltyRule::NearestClass ? 7
                       : s.novelty->calibration_folds > 0 ? 6
                       : s.novelty->whitening.size() == 0 ? 4
                                                          : 5;

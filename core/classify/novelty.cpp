@@ -11,6 +11,9 @@
 #include "core/common/errors.hpp"
 
 namespace wish {
+
+const char* to_string(NoveltyRule rule) { return kNoveltyRuleNames.name(rule); }
+
 namespace {
 
 // Mean of the k smallest entries of `d` (partially sorts it).
@@ -194,23 +197,26 @@ double novelty_threshold(const NoveltyCalibration& c, double quantile, int group
   return widest;
 }
 
-NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<const Eigen::VectorXd>& x, double quantile) {
-  NoveltyAssessment best;
-  best.quantile = quantile > 0 ? quantile : c.quantile;
-  check_quantile(best.quantile);
-  double best_ratio = std::numeric_limits<double>::infinity();
-  bool first = true;
+NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<const Eigen::VectorXd>& x, double quantile,
+                                 int predicted_group) {
+  const double q = quantile > 0 ? quantile : c.quantile;
+  check_quantile(q);
   const Eigen::MatrixXd M = measured_reference(c);
   const Eigen::VectorXd xm = c.whitening.size() == 0 ? Eigen::VectorXd(x) : Eigen::VectorXd(c.whitening * x);
-  std::vector<double> d;
+  std::vector<NoveltyAssessment> per_group;
+  std::vector<double> d, ratios;
   for (int g = 0; g < group_count(c); ++g) {
+    NoveltyAssessment a;
+    a.quantile = q;
+    a.group = g;
     const auto rows = rows_of_group(c, g);
-    if (rows.empty()) continue;
+    if (rows.empty()) {
+      ratios.push_back(std::numeric_limits<double>::infinity());  // no member: unlike it by any measure
+      per_group.push_back(a);
+      continue;
+    }
     d.clear();
     for (Eigen::Index j : rows) d.push_back((M.row(j).transpose() - xm).norm());
-    NoveltyAssessment a;
-    a.quantile = best.quantile;
-    a.group = g;
     a.score = mean_of_smallest(d, group_k(c, rows.size()));
     const auto& s = c.loo_scores[static_cast<std::size_t>(g)];
     const auto at_least = s.end() - std::lower_bound(s.begin(), s.end(), a.score);
@@ -219,15 +225,27 @@ NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<c
     a.novel = a.score > a.threshold;
     // Relative to the class's own spread; a zero threshold (identical training members) puts any distance at
     // infinity and a zero distance at 0.
-    const double ratio = a.threshold > 0 ? a.score / a.threshold
-                                         : (a.score > 0 ? std::numeric_limits<double>::infinity() : 0.0);
-    if (first || ratio < best_ratio || (ratio == best_ratio && a.p_value > best.p_value)) {
-      best = a;
-      best_ratio = ratio;
-      first = false;
-    }
+    ratios.push_back(a.threshold > 0 ? a.score / a.threshold
+                                     : (a.score > 0 ? std::numeric_limits<double>::infinity() : 0.0));
+    per_group.push_back(a);
   }
-  return best;  // novel iff the most alike class's score is above its threshold, i.e. above every class's
+  // The nearest class relative to its spread (ties: the larger p-value); a group without members is never it.
+  int best = -1;
+  for (int g = 0; g < group_count(c); ++g) {
+    if (rows_of_group(c, g).empty()) continue;
+    const auto gi = static_cast<std::size_t>(g);
+    if (best < 0 || ratios[gi] < ratios[static_cast<std::size_t>(best)] ||
+        (ratios[gi] == ratios[static_cast<std::size_t>(best)] && per_group[gi].p_value > per_group[static_cast<std::size_t>(best)].p_value))
+      best = g;
+  }
+  if (c.rule == NoveltyRule::PredictedClass && predicted_group >= 0 && predicted_group < group_count(c) &&
+      !rows_of_group(c, predicted_group).empty())
+    best = predicted_group;
+  NoveltyAssessment out = per_group.at(static_cast<std::size_t>(std::max(best, 0)));
+  // NearestClass: novel iff the most alike class's score is above its threshold, i.e. above every class's.
+  // PredictedClass: novel iff above the predicted class's threshold.
+  out.class_ratios = std::move(ratios);
+  return out;
 }
 
 void validate_novelty(const NoveltyCalibration& c, Eigen::Index n_features, int n_classes) {
@@ -274,6 +292,7 @@ void validate_novelty(const NoveltyCalibration& c, Eigen::Index n_features, int 
   if (c.calibration_folds < 0 || c.calibration_folds == 1 || c.calibration_folds > n)
     bad("calibration_folds = " + std::to_string(c.calibration_folds) + " must be 0 (leave-one-out) or in 2.." + std::to_string(n));
   if (c.calibration_folds > 0 && !c.per_class) bad("cross-validated calibration without per-class calibration");
+  if (c.rule != NoveltyRule::NearestClass && !c.per_class) bad("the predicted-class rule without per-class calibration");
 }
 
 }  // namespace wish

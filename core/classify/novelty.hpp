@@ -57,7 +57,21 @@
 
 #include <Eigen/Core>
 
+#include "core/common/enum_names.hpp"
+
 namespace wish {
+
+// Which class's threshold decides (issue 38, measured in docs/benchmarks.md "Novelty, issue 38").
+enum class NoveltyRule {
+  NearestClass,    // formats 3-6: novel when the score is above EVERY class's threshold; reported: the class the
+                   // sample is most like relative to its spread (one wide class hides every sample near it)
+  PredictedClass,  // format 7: novel when the score against the class the SVM predicts is above that class's
+                   // threshold; reported: that class
+};
+inline constexpr EnumNames<NoveltyRule, 2> kNoveltyRuleNames{{{
+    {NoveltyRule::NearestClass, "nearest_class"},
+    {NoveltyRule::PredictedClass, "predicted_class"}}}};
+const char* to_string(NoveltyRule rule);  // kNoveltyRuleNames
 
 // How distances are measured in the standardised feature space.
 enum class NoveltyDistance {
@@ -79,6 +93,7 @@ struct NoveltyCalibration {
   // How loo_scores were made: 0 leave-one-out (formats 3-5); >= 2 cross-validated with that many stratified folds
   // (format 6; the name loo_scores stays, it is the file's key). Prediction computes the same either way.
   int calibration_folds = 0;
+  NoveltyRule rule = NoveltyRule::NearestClass;  // format 7 stores predicted_class
 };
 
 struct NoveltyAssessment {
@@ -89,6 +104,10 @@ struct NoveltyAssessment {
   bool novel = false;    // above every class's threshold (== score > threshold)
   int group = 0;         // the reported class (model class index; 0 when !per_class); last, so that brace
                          // initialisers of the first five fields keep their meaning
+  // Why (issue 38 item 3): per group (model class order), the sample's score divided by that class's threshold —
+  // its distance in units of the class's own calibration spread (1 = at the class's quantile; novel when every
+  // entry is above 1). The reported group has the smallest.
+  std::vector<double> class_ratios;
 };
 
 // Xs: the standardised training samples the SVM was fitted on (at least 2 rows), y: their class indices
@@ -114,8 +133,10 @@ Eigen::MatrixXd within_class_whitening(const Eigen::MatrixXd& Xs, const std::vec
 double novelty_threshold(const NoveltyCalibration& c, double quantile, int group = 0);
 
 // x: one standardised sample (the reference's column count). quantile <= 0: the calibration's own quantile.
+// predicted_group: the class the classifier predicts (model class index); the PredictedClass rule reports and
+// decides by it, and falls back to the nearest class when it is out of range (-1: not known).
 NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<const Eigen::VectorXd>& x,
-                                 double quantile = 0);
+                                 double quantile = 0, int predicted_group = -1);
 
 // Checks sizes, k, groups, finiteness and order; throws InvalidInputError("model_invalid") naming what is wrong.
 void validate_novelty(const NoveltyCalibration& c, Eigen::Index n_features, int n_classes);

@@ -7,10 +7,15 @@
 
 namespace wish {
 
-inline constexpr EnumNames<FeatureFamily, 3> kFeatureFamilyNames{{{
+inline constexpr EnumNames<FeatureFamily, 8> kFeatureFamilyNames{{{
     {FeatureFamily::Invariants, "invariants"},
     {FeatureFamily::Global, "global"},
-    {FeatureFamily::Combined, "combined"}}}};
+    {FeatureFamily::Combined, "combined"},
+    {FeatureFamily::Spectrum, "spectrum"},
+    {FeatureFamily::SpectrumGlobal, "spectrum_global"},
+    {FeatureFamily::CanonicalSh, "canonical_sh"},
+    {FeatureFamily::CanonicalShGlobal, "canonical_sh_global"},
+    {FeatureFamily::All, "all"}}}};
 
 inline constexpr EnumNames<ScaleNormalization, 3> kScaleNormalizationNames{{{
     {ScaleNormalization::None, "none"},

@@ -20,10 +20,6 @@ std::uint64_t below(std::uint64_t& state, std::uint64_t n) {
   return r % n;
 }
 
-void shuffle(std::vector<int>& v, std::uint64_t& state) {
-  for (std::size_t i = v.size(); i > 1; --i) std::swap(v[i - 1], v[below(state, i)]);
-}
-
 std::map<int, std::vector<int>> by_class(const std::vector<int>& labels) {
   std::map<int, std::vector<int>> groups;
   for (int i = 0; i < static_cast<int>(labels.size()); ++i) groups[labels[i]].push_back(i);
@@ -37,6 +33,10 @@ std::uint64_t splitmix64(std::uint64_t& state) {
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
   return z ^ (z >> 31);
+}
+
+void shuffle_indices(std::vector<int>& v, std::uint64_t& state) {
+  for (std::size_t i = v.size(); i > 1; --i) std::swap(v[i - 1], v[below(state, i)]);
 }
 
 std::vector<Split> stratified_shuffle_split(const std::vector<int>& labels, int n_splits, double test_fraction,
@@ -87,7 +87,7 @@ std::vector<Split> stratified_shuffle_split(const std::vector<int>& labels, int 
     int c = 0;
     for (const auto& [label, members] : groups) {
       std::vector<int> shuffled = members;
-      shuffle(shuffled, state);
+      shuffle_indices(shuffled, state);
       split.test.insert(split.test.end(), shuffled.begin(), shuffled.begin() + take[c]);
       split.train.insert(split.train.end(), shuffled.begin() + take[c], shuffled.end());
       ++c;
@@ -107,7 +107,7 @@ std::vector<Split> stratified_k_fold(const std::vector<int>& labels, int k, std:
   int next = 0;  // continue dealing where the previous class stopped, so folds stay balanced in size
   for (const auto& [label, members] : by_class(labels)) {
     std::vector<int> shuffled = members;
-    shuffle(shuffled, state);
+    shuffle_indices(shuffled, state);
     for (int i : shuffled) folds[next++ % k].push_back(i);
   }
   std::vector<Split> splits(k);

@@ -25,4 +25,7 @@ std::vector<Split> stratified_k_fold(const std::vector<int>& labels, int k, std:
 // Uniform integer in [0, n) from a 64-bit generator state (splitmix64), portable.
 std::uint64_t splitmix64(std::uint64_t& state);
 
+// Fisher-Yates shuffle on splitmix64 with exact uniform draws (rejection sampling), the one the splits use.
+void shuffle_indices(std::vector<int>& v, std::uint64_t& state);
+
 }  // namespace wish

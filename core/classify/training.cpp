@@ -15,6 +15,7 @@
 #include "core/classify/novelty.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/classify/standard_scaler.hpp"
+#include "core/classify/successive_halving.hpp"
 #include "core/classify/svm_engine.hpp"
 #include "core/common/errors.hpp"
 
@@ -43,9 +44,16 @@ std::string iso_now(const std::string& fixed) {
   return buf;
 }
 
-// Grid search on (X_train, y_train) with the paper's StratifiedShuffleSplit; returns (C, gamma, score).
-GridSearchResult search(const Eigen::MatrixXd& Xs, const std::vector<int>& y, int n_splits, double fraction,
-                        std::uint64_t seed, const GridSearchOptions& grid) {
+// The search on (X_train, y_train): the full grid on the paper's StratifiedShuffleSplit, or successive halving with
+// as many splits per rung (search_plan.hpp says which).
+GridSearchResult search(const Eigen::MatrixXd& Xs, const std::vector<int>& y, SearchMethod method, int n_splits,
+                        double fraction, std::uint64_t seed, const GridSearchOptions& grid, const HalvingOptions& halving) {
+  if (method == SearchMethod::Halving) {
+    HalvingOptions h = halving;
+    h.splits = n_splits;
+    h.validation_fraction = fraction;
+    return successive_halving(Xs, y, grid, h, seed);
+  }
   const auto splits = stratified_shuffle_split(y, n_splits, fraction, seed);
   return grid_search(Xs, y, splits, grid);
 }
@@ -106,6 +114,8 @@ NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vect
   for (const auto& [label, n] : counts) min_class = std::min(min_class, n);
   const int outer = std::min(options.outer_folds, min_class);
   if (outer < 2) return out;
+  out.repeats = options.repeats;
+  out.outer_folds = outer;
   // The outer folds are independent: they run in parallel on the grid's workers, each with a one-thread inner search
   // (finer-grained than the gamma rows of one inner grid, so the two cores stay busy), and are gathered in fold order
   // so the result does not depend on scheduling.
@@ -136,7 +146,8 @@ NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vect
     const Eigen::MatrixXd Xas = sc.transform(Xa), Xbs = sc.transform(Xb);
     FoldResult& res = results[static_cast<std::size_t>(t)];
     try {
-      res.inner = search(Xas, ya, options.inner_splits, options.validation_fraction, task.seed_r + task.f + 1, inner_grid);
+      res.inner = search(Xas, ya, options.search, options.inner_splits, options.validation_fraction, task.seed_r + task.f + 1,
+                         inner_grid, options.halving);
     } catch (const InvalidInputError&) {
       return;  // an outer fold too small for the inner split; reported through the fold count
     }
@@ -165,6 +176,7 @@ NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vect
     double var = 0;
     for (double s : out.scores) var += (s - out.mean) * (s - out.mean);
     out.std = std::sqrt(var / static_cast<double>(out.scores.size()));
+    out.interval95 = cv_interval(out.scores, 1.0 / (outer - 1));
   }
   return out;
 }
@@ -215,18 +227,23 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   const StandardScaler scaler = StandardScaler::fit(X_train);
   const Eigen::MatrixXd Xs_train = scaler.transform(X_train), Xs_test = scaler.transform(X_test);
 
+  const SearchPlan plan = plan_search(static_cast<int>(y_train.size()), options.scale);
+  rep.search_reason = plan.reason;
+  say("search: " + plan.reason);
   say("grid search: " + std::to_string(options.grid.Cs.size()) + " x " + std::to_string(options.grid.gammas.size()) +
       " cells x " + std::to_string(options.grid_splits) + " splits on " + std::to_string(y_train.size()) + " samples");
-  rep.grid = search(Xs_train, y_train, options.grid_splits, options.grid_validation_fraction, seed_grid, options.grid);
+  rep.grid = search(Xs_train, y_train, plan.search, options.grid_splits, options.grid_validation_fraction, seed_grid,
+                    options.grid, options.scale.halving);
   say("grid search: best C = " + std::to_string(rep.grid.C()) + ", gamma = " + std::to_string(rep.grid.gamma()) +
-      ", validation accuracy " + std::to_string(rep.grid.best_score) + " (" + std::to_string(rep.grid.seconds) + " s; " +
-      std::to_string(rep.grid.fits) + " fits, " + std::to_string(rep.grid.total_capped_fits()) +
-      " stopped at libsvm's iteration cap, " + std::to_string(rep.grid.cells_skipped) + " cells skipped by early stop)");
+      ", validation accuracy " + std::to_string(rep.grid.best_score) + " on " + std::to_string(rep.grid.search_rows) +
+      " rows (" + std::to_string(rep.grid.seconds) + " s; " + std::to_string(rep.grid.fits) + " fits, " +
+      std::to_string(rep.grid.total_capped_fits()) + " stopped at libsvm's iteration cap, " +
+      std::to_string(rep.grid.cells_skipped) + " cells skipped by early stop)");
 
   SvmParams params;
   params.C = rep.grid.C();
   params.gamma = rep.grid.gamma();
-  params.probability = true;
+  params.probability = options.probability;
   SvmEngine svm = SvmEngine::train(Xs_train, y_train, params, static_cast<unsigned>(seed_svm), &rep.final_fit_cap_warnings);
   std::vector<int> pred_train, pred_test;
   for (Eigen::Index i = 0; i < Xs_train.rows(); ++i) pred_train.push_back(svm.predict_label(Xs_train.row(i).transpose()));
@@ -246,6 +263,8 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
     NestedCvOptions nested;
     nested.outer_folds = options.nested_outer_folds;
     nested.repeats = options.nested_repeats;
+    nested.search = plan.search;
+    nested.halving = options.scale.halving;
     nested.inner_splits = options.nested_inner_splits;
     nested.validation_fraction = options.grid_validation_fraction;
     nested.grid = options.grid;
@@ -268,6 +287,7 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
                                              options.novelty_distance, options.novelty_folds, options.seed)
                          : calibrate_novelty(Xs_train, y_train, options.novelty_k, options.novelty_quantile,
                                              options.novelty_distance, options.novelty_folds, options.seed);
+    state->novelty->rule = options.novelty_rule;
     for (int c = 0; c < k; ++c)
       rep.novelty_class_thresholds.push_back(novelty_threshold(*state->novelty, options.novelty_quantile, c));
     rep.novelty_threshold = *std::max_element(rep.novelty_class_thresholds.begin(), rep.novelty_class_thresholds.end());
@@ -275,7 +295,8 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
     rep.novelty_folds = state->novelty->calibration_folds;
     if (!options.refit_on_all)  // the test split is new to this model: how many of the known types it flags
       for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) {
-        const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose());
+        const NoveltyAssessment a = assess_novelty(*state->novelty, Xs_test.row(i).transpose(), 0,
+                                                   state->svm.predict(Xs_test.row(i).transpose()).label);
         rep.test_novelty.push_back(a.score);
         rep.test_novel.push_back(a.novel);
       }

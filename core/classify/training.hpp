@@ -7,12 +7,15 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/classify/classifier_model.hpp"
+#include "core/classify/cv_interval.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/metrics.hpp"
+#include "core/classify/search_plan.hpp"
 #include "core/classify/training_losses.hpp"
 
 namespace wish {
@@ -29,6 +32,7 @@ struct TrainOptions {
   std::string version = "1";
   DescriptorRecipe recipe;         // recorded in the model: how the features were computed (recipe.features: the pipeline)
   GridSearchOptions grid;          // C, gamma grid and jobs
+  ScalePolicy scale;               // which search at which size (search_plan.hpp)
   int grid_splits = 10;            // StratifiedShuffleSplit n_splits (scikit-learn's default)
   double grid_validation_fraction = 0.2;
   double test_fraction = 0.2;      // the paper's stratified hold-out
@@ -37,10 +41,13 @@ struct TrainOptions {
   int nested_inner_splits = 5;
   bool refit_on_all = false;       // false: the shipped model is the one measured on the test split
   bool novelty = true;             // calibrate the novelty figure (novelty.hpp) on the final fit's samples
+  bool probability = true;         // Platt probabilities on the final fit; off where the model is not kept (the
+                                   // family comparison): the votes, so the test accuracy, are the same either way
   int novelty_k = 3;               // per class; 3 flagged more left-out members than 5 at the same false-flag rate (docs/benchmarks.md)
   double novelty_quantile = 0.99;  // the model's default threshold quantile
   NoveltyDistance novelty_distance = NoveltyDistance::Whitened;  // format 5; Euclidean: format 4's figure
   int novelty_folds = 0;           // 0: leave-one-out calibration scores (format 5); >= 2: cross-validated (format 6)
+  NoveltyRule novelty_rule = NoveltyRule::NearestClass;  // PredictedClass: model format 7 (novelty.hpp)
   std::uint64_t seed = 42;
   // Meshes that did not become samples (refused, failed): counted per class in the report; training stops when a
   // class loses more than loss_policy.max_class_loss of its meshes (training_losses.hpp).
@@ -52,9 +59,11 @@ struct TrainOptions {
 };
 
 struct NestedCvResult {
+  int repeats = 0, outer_folds = 0;                 // as run (outer folds are capped at the smallest class)
   std::vector<double> scores;                       // one per outer fold and repeat
   std::vector<std::pair<double, double>> chosen;    // (C, gamma) picked by each inner search
   double mean = 0, std = 0;
+  std::optional<Interval> interval95;               // cv_interval.hpp; none for fewer than 2 scores
   // Over every inner grid search: split fits run, fits stopped at libsvm's iteration cap, cells skipped by early stop.
   int fits = 0, capped_fits = 0, cells_skipped = 0;
 };
@@ -69,7 +78,8 @@ struct TrainingReport {
   std::string dataset_sha256;
   std::uint64_t seed = 0;
   std::vector<int> train_indices, test_indices;  // into the samples given
-  GridSearchResult grid;
+  GridSearchResult grid;                         // grid.method: the search that ran ("grid" or "halving")
+  std::string search_reason;                     // why that search (search_plan.hpp)
   double train_accuracy = 0;
   int final_fit_cap_warnings = 0;                // the shipped model's fit: solvers stopped at libsvm's iteration cap
   ClassificationMetrics test;                    // on the hold-out split
@@ -91,6 +101,8 @@ struct NestedCvOptions {
   int inner_splits = 5;    // StratifiedShuffleSplit of each outer training fold for the inner grid search
   double validation_fraction = 0.2;
   GridSearchOptions grid;
+  SearchMethod search = SearchMethod::Grid;  // the inner search (the main search's: Grid or Halving)
+  HalvingOptions halving;
   std::uint64_t seed = 45;
 };
 

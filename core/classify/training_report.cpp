@@ -46,6 +46,12 @@ std::string training_report_table(const TrainingReport& r) {
     << to_string(r.spec.family) << ")\n";
   o << "best C = " << exponent_label(r.grid.C()) << ", gamma = " << exponent_label(r.grid.gamma())
     << "  (grid validation accuracy " << fmt("%.3f", r.grid.best_score) << ")\n";
+  if (!r.search_reason.empty()) o << "search: " << r.search_reason << "\n";
+  if (!r.grid.rungs.empty()) {
+    o << "halving rungs (rows: cells):";
+    for (const auto& g : r.grid.rungs) o << " " << g.rows << ": " << g.candidates;
+    o << "; best scored on " << r.grid.search_rows << " rows\n";
+  }
   o << "grid: " << r.grid.fits << " fits";
   if (r.grid.early_stop)
     o << ", " << r.grid.cells_skipped << " of " << r.grid.Cs.size() * r.grid.gammas.size()
@@ -82,9 +88,13 @@ std::string training_report_table(const TrainingReport& r) {
     o << "the final model's fit: " << r.final_fit_cap_warnings << " solvers stopped at libsvm's iteration cap\n";
   o << "train accuracy " << fmt("%.3f", r.train_accuracy) << ", test accuracy " << fmt("%.3f", r.test.accuracy) << " on "
     << r.test_indices.size() << " held-out samples";
-  if (!r.nested.scores.empty())
+  if (!r.nested.scores.empty()) {
     o << ", nested CV " << fmt("%.3f", r.nested.mean) << " +- " << fmt("%.3f", r.nested.std) << " (" << r.nested.scores.size()
-      << " outer folds)";
+      << " outer folds";
+    if (r.nested.interval95)
+      o << "; 95 % interval " << fmt("%.3f", r.nested.interval95->low) << "-" << fmt("%.3f", r.nested.interval95->high);
+    o << ")";
+  }
   o << "\n\n";
   if (!r.losses.empty()) o << "meshes per class (lost: refused or failed, by error code; flagged: off-recipe maps kept)\n"
                            << loss_table(r.losses) << "\n";
@@ -142,9 +152,14 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
     << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
   o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   o << "<text x=\"" << left << "\" y=\"20\" font-size=\"14\">" << escape(title) << "</text>\n";
+  const bool halving = g.cell_rung.size() > 0 && !g.rungs.empty();
   o << "<text x=\"" << left << "\" y=\"38\">mean validation accuracy; best C = " << exponent_label(g.C()) << ", gamma = "
     << exponent_label(g.gamma()) << " (" << fmt("%.3f", g.best_score) << "); !n: fits stopped at the iteration cap"
-    << (g.cells_skipped ? "; grey: skipped (early stop)" : "") << "</text>\n";
+    << (g.cells_skipped ? "; grey: skipped (early stop)" : "")
+    << (halving ? "; rN: successive halving's rung N (" + std::to_string(g.rungs.front().rows) + " to " +
+                      std::to_string(g.rungs.back().rows) + " rows), scores of different rungs differ in rows"
+                : std::string())
+    << "</text>\n";
   for (int ci = 0; ci < nc; ++ci) {
     for (int gi = 0; gi < ng; ++gi) {
       const double v = g.mean_score(ci, gi);
@@ -164,6 +179,9 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
         << (capped ? "; " + std::to_string(capped) + " fits stopped at the iteration cap" : std::string()) << "</title></rect>\n";
       o << "<text x=\"" << x + cell / 2 << "\" y=\"" << y + cell / 2 + 4 << "\" text-anchor=\"middle\" font-size=\"9\" fill=\""
         << (t > 0.55 ? "white" : "black") << "\">" << fmt("%.2f", v) << "</text>\n";
+      if (halving)  // the rung (so the rows) this cell's score is from
+        o << "<text x=\"" << x + 2 << "\" y=\"" << y + 10 << "\" font-size=\"8\" fill=\"" << (t > 0.55 ? "white" : "#555")
+          << "\">r" << g.cell_rung(ci, gi) << "</text>\n";
       if (capped)  // a corner mark with the count: fits of this cell that did not converge
         o << "<text x=\"" << x + cell - 2 << "\" y=\"" << y + 10 << "\" text-anchor=\"end\" font-size=\"8\" fill=\"#d7301f\">!"
           << capped << "</text>\n";

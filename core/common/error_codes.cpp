@@ -64,6 +64,7 @@ constexpr std::array kCodes{
     ErrorCodeInfo{"queue_full", C::Unavailable, 0, "the worker queue is full; retry after Retry-After seconds"},
     ErrorCodeInfo{"report_not_found", C::NotFound, 0, "the model has no readable training report beside its file"},
     ErrorCodeInfo{"shutting_down", C::Unavailable, 0, "the server is draining for shutdown"},
+    ErrorCodeInfo{"spectrum_failed", C::Internal, 0, "the Laplace-Beltrami eigenvalues (ShapeDNA) could not be computed (factorisation or convergence)"},
     ErrorCodeInfo{"timeout", C::Timeout, 0, "the per-request time limit passed"},
     ErrorCodeInfo{"too_many_parts", C::TooLarge, 0, "a multipart request has more parts than allowed"},
     ErrorCodeInfo{"too_small", C::Unmappable, 0, "fewer than 4 vertices or faces: not a closed surface"},

@@ -168,6 +168,17 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
   if ((slope != 0 && slope != 1) || inter != 0)
     r.notes.push_back("scl_slope/scl_inter (" + std::to_string(slope) + ", " + std::to_string(inter) +
                       ") ignored: labels are read as stored");
+  NiftiGeometry g;
+  for (int k = 0; k < 8; ++k) g.pixdim[static_cast<std::size_t>(k)] = field<float>(h, 76 + 4 * static_cast<std::size_t>(k), swap);
+  g.xyzt_units = static_cast<std::uint8_t>(h[123]);
+  g.qform_code = field<std::int16_t>(h, 252, swap);
+  g.sform_code = field<std::int16_t>(h, 254, swap);
+  for (std::size_t k = 0; k < 3; ++k) {
+    g.quatern[k] = field<float>(h, 256 + 4 * k, swap);
+    g.qoffset[k] = field<float>(h, 268 + 4 * k, swap);
+  }
+  for (std::size_t k = 0; k < 12; ++k) g.srow[k] = field<float>(h, 280 + 4 * k, swap);
+  r.nifti = g;
   if (swap) r.notes.push_back("big-endian NIfTI-1");
   if (gz) r.notes.push_back("gzip-compressed");
   return r;

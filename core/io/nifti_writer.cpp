@@ -90,3 +90,102 @@ std::string write_nifti(const volume::LabelImage& image, std::string_view dataty
 }
 
 }  // namespace wish
+
+// ---- Label images (core/io/label_image_writers.hpp) ----
+
+#include "core/io/label_image_writers.hpp"
+
+namespace wish {
+namespace {
+
+// Writes bytes to `out`, deflated into one gzip member when `gzip`.
+class ByteStream {
+ public:
+  ByteStream(std::ostream& out, bool gzip) : out_(out), gzip_(gzip) {
+    if (gzip_ && deflateInit2(&zs_, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+      throw WishError(ErrorCategory::Internal, "zlib_error", "zlib could not be initialised");
+  }
+  ~ByteStream() {
+    if (gzip_) deflateEnd(&zs_);
+  }
+  ByteStream(const ByteStream&) = delete;
+  ByteStream& operator=(const ByteStream&) = delete;
+
+  void write(const void* data, std::size_t n) { pump(data, n, Z_NO_FLUSH); }
+  void finish() {
+    if (gzip_) pump(nullptr, 0, Z_FINISH);
+    out_.flush();
+    if (!out_) throw IoError("write_failed", "the label image could not be written");
+  }
+
+ private:
+  void pump(const void* data, std::size_t n, int flush) {
+    if (!gzip_) {
+      out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
+      return;
+    }
+    zs_.next_in = reinterpret_cast<Bytef*>(const_cast<void*>(data));
+    zs_.avail_in = static_cast<uInt>(n);
+    char buf[1 << 16];
+    int rc = Z_OK;
+    do {
+      zs_.next_out = reinterpret_cast<Bytef*>(buf);
+      zs_.avail_out = sizeof buf;
+      rc = deflate(&zs_, flush);
+      if (rc == Z_STREAM_ERROR) throw WishError(ErrorCategory::Internal, "zlib_error", "gzip compression failed");
+      out_.write(buf, static_cast<std::streamsize>(sizeof buf - zs_.avail_out));
+    } while (zs_.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
+  }
+
+  std::ostream& out_;
+  bool gzip_;
+  z_stream zs_{};
+};
+
+}  // namespace
+
+void write_nifti_labels(std::ostream& out, const LabelImageShape& shape, const LabelRowSource& source,
+                        std::uint8_t max_value, const std::optional<NiftiGeometry>& like, bool gzip) {
+  for (auto n : shape.dims)
+    if (n < 1 || n > 32767) throw InvalidInputError("invalid_parameter", "NIfTI-1 dimensions must be 1 to 32767");
+  std::string h(352, '\0');
+  put<std::int32_t>(h, 0, 348);
+  const std::int16_t dim[8] = {3, static_cast<std::int16_t>(shape.dims[0]), static_cast<std::int16_t>(shape.dims[1]),
+                               static_cast<std::int16_t>(shape.dims[2]), 1, 1, 1, 1};
+  for (int k = 0; k < 8; ++k) put<std::int16_t>(h, 40 + 2 * static_cast<std::size_t>(k), dim[k]);
+  put<std::int16_t>(h, 68, 1002);  // intent_code NIFTI_INTENT_LABEL: the values are labels, not intensities
+  put<std::int16_t>(h, 70, 2);     // datatype uint8
+  put<std::int16_t>(h, 72, 8);
+  put<float>(h, 108, 352.0f);
+  put<float>(h, 112, 1.0f);  // scl_slope
+  put<float>(h, 124, static_cast<float>(max_value));  // cal_max
+  std::memcpy(h.data() + 148, "WISH class map", 14);  // descrip
+  std::memcpy(h.data() + 328, "class", 5);            // intent_name
+  if (like) {
+    for (std::size_t k = 0; k < 8; ++k) put<float>(h, 76 + 4 * k, like->pixdim[k]);
+    h[123] = static_cast<char>(like->xyzt_units);
+    put<std::int16_t>(h, 252, like->qform_code);
+    put<std::int16_t>(h, 254, like->sform_code);
+    for (std::size_t k = 0; k < 3; ++k) {
+      put<float>(h, 256 + 4 * k, like->quatern[k]);
+      put<float>(h, 268 + 4 * k, like->qoffset[k]);
+    }
+    for (std::size_t k = 0; k < 12; ++k) put<float>(h, 280 + 4 * k, like->srow[k]);
+  } else {
+    put<float>(h, 76, 1.0f);  // qfac
+    for (std::size_t k = 0; k < 3; ++k) put<float>(h, 80 + 4 * k, static_cast<float>(shape.spacing(static_cast<Eigen::Index>(k))));
+    h[123] = shape.unit == "m" ? 1 : shape.unit == "mm" ? 2 : shape.unit == "um" ? 3 : 0;
+  }
+  std::memcpy(h.data() + 344, "n+1\0", 4);
+  ByteStream stream(out, gzip);
+  stream.write(h.data(), h.size());
+  const std::int64_t slice = shape.dims[0] * shape.dims[1];
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(slice));
+  for (std::int64_t z = 0; z < shape.dims[2]; ++z) {
+    source(z * slice, slice, 1, row.data());
+    stream.write(row.data(), row.size());
+  }
+  stream.finish();
+}
+
+}  // namespace wish

@@ -19,6 +19,7 @@
 // (`unit=`, `spacing=` for z) or OME-XML's PhysicalSize{X,Y,Z}[Unit]. `spacing_override` / `unit_override` replace
 // what the file says (UroCell's NIfTI headers say 1 mm; the true voxel is 16 x 16 x 15 nm).
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -51,12 +52,38 @@ struct VolumeReadOptions {
   int zarr_level = 0;
 };
 
+// An OME-Zarr input's array as read: what a label image written beside it (a class map) keeps, so that it lines up
+// with the input in napari or neuroglancer (the same axes, shape, chunks and coordinate transformations).
+struct ZarrLayout {
+  struct Axis {
+    std::string name, type, unit;  // as in the file ("micrometer"); type and unit may be empty
+  };
+  std::vector<Axis> axes;                  // one per zarr dimension, in the array's order
+  std::vector<std::int64_t> shape, chunks;
+  std::array<int, 3> space_dim{-1, -1, -1};  // the zarr dimension of x, y, z
+  std::vector<double> scale;               // per zarr dimension: the level's scale times the multiscale's
+  std::vector<double> translation;         // per zarr dimension; empty when the file has none
+  std::string label_image;                 // key prefix of the label image read ("labels/cells/"; "" for the root)
+};
+
+// A NIfTI-1 input's geometry fields as read (host byte order), so that an image written beside it (a class map)
+// keeps its voxel-to-world mapping exactly: pixdim, units, the qform (quaternion and offsets) and the sform rows.
+struct NiftiGeometry {
+  std::array<float, 8> pixdim{};
+  std::uint8_t xyzt_units = 0;
+  std::int16_t qform_code = 0, sform_code = 0;
+  std::array<float, 3> quatern{}, qoffset{};
+  std::array<float, 12> srow{};  // srow_x, srow_y, srow_z
+};
+
 struct VolumeReadResult {
   volume::LabelImage image;
   VolumeFormat format = VolumeFormat::Unknown;
   std::string datatype;             // voxel type in the file: "int16", "float64", ...
   bool spacing_from_file = false;   // false: the file gave no spacing (1, 1, 1 assumed) or it was overridden
   std::vector<std::string> notes;   // what was ignored or assumed, one sentence each
+  std::optional<ZarrLayout> zarr;   // OME-Zarr inputs only
+  std::optional<NiftiGeometry> nifti;  // NIfTI inputs only
 };
 
 // NIfTI-1 (magic "n+1" at byte 344, either byte order, gzip-wrapped or not), TIFF ("II*\0" / "MM\0*") or a zip

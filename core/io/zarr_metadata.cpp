@@ -116,9 +116,12 @@ Dtype parse_dtype(const std::string& key, const json& v) {
 }
 
 // Per-dimension scale of a coordinateTransformations list (1 where it has none); `found` is set when it has one.
+// `translation` gets the list's translation (0 where it has none), applied after the scale as the list orders them
+// (kept for a label image written beside this one; the meshes start at the first voxel's centre).
 std::vector<double> scale_of(const std::string& key, const json& list, std::size_t ndim, bool& found,
-                             std::vector<std::string>& notes) {
+                             std::vector<std::string>& notes, std::vector<double>& translation) {
   std::vector<double> scale(ndim, 1.0);
+  translation.assign(ndim, 0.0);
   if (list.is_null()) return scale;
   if (!list.is_array()) bad(key, "coordinateTransformations is not a list");
   for (const json& t : list) {
@@ -126,6 +129,10 @@ std::vector<double> scale_of(const std::string& key, const json& list, std::size
     const std::string type = t["type"].get<std::string>();
     if (type == "translation") {
       notes.push_back("translation ignored: the mesh starts at the first voxel's centre");
+      const json& t_values = t.value("translation", json());
+      if (t_values.is_array() && t_values.size() == ndim)
+        for (std::size_t d = 0; d < ndim; ++d)
+          if (t_values[d].is_number() && std::isfinite(t_values[d].get<double>())) translation[d] += t_values[d].get<double>();
       continue;
     }
     if (type == "identity") continue;
@@ -146,6 +153,7 @@ std::vector<double> scale_of(const std::string& key, const json& list, std::size
       const double v = s[d].get<double>();
       if (!(std::isfinite(v) && v > 0)) invalid(key, "scale value " + std::to_string(d) + " is " + s[d].dump() + " (must be finite and positive)");
       scale[d] *= v;
+      translation[d] *= v;
     }
     found = true;
   }
@@ -261,10 +269,16 @@ ZarrArrayPlan plan_zarr_read(const ZarrStore& store, const VolumeReadOptions& op
       plan.notes.push_back("NGFF version " + (*ms)["version"].get<std::string>() + " read as 0.4");
     axes = axes_of(attrs_key, *ms, plan.notes);
     bool found = false;
-    scale = scale_of(attrs_key, ds.contains("coordinateTransformations") ? ds["coordinateTransformations"] : json(), axes.size(), found, plan.notes);
+    std::vector<double> shift, global_shift;
+    scale = scale_of(attrs_key, ds.contains("coordinateTransformations") ? ds["coordinateTransformations"] : json(), axes.size(),
+                     found, plan.notes, shift);
     const std::vector<double> global = scale_of(attrs_key, ms->contains("coordinateTransformations") ? (*ms)["coordinateTransformations"] : json(),
-                                                axes.size(), found, plan.notes);
-    for (std::size_t d = 0; d < axes.size(); ++d) scale[d] *= global[d];
+                                                axes.size(), found, plan.notes, global_shift);
+    for (std::size_t d = 0; d < axes.size(); ++d) {
+      scale[d] *= global[d];
+      shift[d] = shift[d] * global[d] + global_shift[d];
+    }
+    if (std::any_of(shift.begin(), shift.end(), [](double t) { return t != 0; })) plan.layout.translation = shift;
     plan.spacing_from_file = found;
     if (!prefix.empty() && attrs && !attrs->contains("image-label"))
       plan.notes.push_back("the label image has no image-label metadata");
@@ -320,6 +334,13 @@ ZarrArrayPlan plan_zarr_read(const ZarrStore& store, const VolumeReadOptions& op
   for (int k = 0; k < 3; ++k)
     if (plan.space_dim[k] < 0)
       invalid(zkey, std::string("no ") + "xyz"[k] + " axis: a label volume needs x, y and z (axes " + axis_list + ")");
+
+  for (std::size_t d = 0; d < ndim; ++d) plan.layout.axes.push_back({axes[d].name, axes[d].type, axes[d].unit});
+  plan.layout.shape = plan.shape;
+  plan.layout.chunks = plan.chunks;
+  plan.layout.space_dim = plan.space_dim;
+  plan.layout.scale = scale;
+  plan.layout.label_image = prefix;
 
   // 5. Voxel size and unit.
   std::string unit;

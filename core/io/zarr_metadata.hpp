@@ -46,6 +46,7 @@ struct ZarrArrayPlan {
   std::string unit;
   std::string datatype;                       // "uint16 (<u2)"
   std::vector<std::string> notes;
+  ZarrLayout layout;                          // what a label image written beside this one keeps
 
   // The key of the chunk with grid index `linear` (C order over the chunk grid), e.g. "labels/cells/0/0.1.2".
   std::string chunk_key(std::int64_t linear) const;

@@ -38,6 +38,7 @@ VolumeReadResult read_zarr(const ZarrStore& store, const VolumeReadOptions& opti
   r.image.spacing = plan.spacing;
   r.image.unit = plan.unit;
   r.spacing_from_file = plan.spacing_from_file;
+  r.zarr = plan.layout;
   r.image.labels.assign(static_cast<std::size_t>(r.image.voxel_count()), 0);
   if (probabilities) r.image.probability_scale = volume::LabelImage::kProbabilityScale;
 

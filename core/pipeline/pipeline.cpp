@@ -3,10 +3,13 @@
 // with a machine-readable code, so the CLI and the HTTP service report it the same way.
 #include "core/pipeline/pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
 #include "core/classify/global_descriptors.hpp"
+#include "core/classify/laplace_spectrum.hpp"
+#include "core/sh/sh_canonical_frame.hpp"
 #include "core/common/stage_profile.hpp"
 #include "core/sh/sh_fit.hpp"
 #include "core/sh/sh_reconstruction.hpp"
@@ -61,6 +64,12 @@ PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const De
   result.sh = fit_spherical_harmonics(result.prepared.mesh, result.map.sphere, options.sh);
   result.features.invariants = result.sh.invariants;
   if (options.compute_global_features) result.features.global = global_shape_descriptors(result.prepared.mesh);
+  if (options.compute_canonical_sh) {
+    const CanonicalShFrame frame = canonical_sh_frame(result.sh, result.prepared.mesh);
+    result.features.canonical_sh = canonical_sh_features(frame.coefficients, 1, result.sh.lmax);
+  }
+  if (options.laplace_spectrum_count > 0)
+    result.features.laplace_spectrum = laplace_spectrum(result.prepared.mesh, options.laplace_spectrum_count).values;
   if (options.reconstruction_level >= 0)
     result.reconstruction = reconstruct_on_icosphere(result.sh, options.reconstruction_level);
   result.timings.fit = seconds_since(t);
@@ -92,6 +101,9 @@ PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptio
   base.map.prefer_method = recipe.off_recipe == OffRecipePolicy::Refuse && recipe.map.canonical.method == CanonicalMap::None;
   base.sh = recipe.sh;
   base.compute_global_features = base.compute_global_features || recipe.needs_global_features();
+  if (recipe.needs_laplace_spectrum())
+    base.laplace_spectrum_count = std::max(base.laplace_spectrum_count, recipe.features.spectrum_count);
+  base.compute_canonical_sh = base.compute_canonical_sh || recipe.needs_canonical_sh();
   return base;
 }
 

@@ -21,6 +21,8 @@ struct PipelineOptions {
   SphericalMapOptions map;
   ShFitOptions sh;
   bool compute_global_features = false;
+  int laplace_spectrum_count = 0;  // > 0: also the first n Laplace-Beltrami eigenvalues (ShapeDNA; features.laplace_spectrum)
+  bool compute_canonical_sh = false;  // also the SH coefficients in the canonical frame (features.canonical_sh)
   int reconstruction_level = -1;   // >= 0: also evaluate the SH surface on an icosphere of this level (0..7)
   double novelty_quantile = 0;     // classify: the novelty flag's threshold quantile; <= 0: the model's own
 };

@@ -30,8 +30,7 @@ TrainingSample sample_of(const PipelineResult& r, const DescriptorRecipe& recipe
   s.off_recipe = !conformance.match;
   s.id = id;
   s.label = label;
-  s.features.invariants = r.sh.invariants;
-  s.features.global = r.features.global;
+  s.features = r.features;
   return s;
 }
 
@@ -92,12 +91,14 @@ ItemDescription describe_volume_item(const DatasetItem& item, const std::string&
     if (!seen.count(id))
       d.losses.push_back({item.path + "#" + std::to_string(id), label, "label_not_kept",
                           "label id " + std::to_string(id) + " is not among the volume's kept objects (absent, fewer "
-                          "voxels than the minimum, or touching the border while truncated objects are dropped)"});
+                          "voxels than the minimum or a speck, or touching the border while truncated objects are dropped)"});
   int flagged = 0;
   for (const auto& s : d.samples) flagged += s.off_recipe;
   std::ostringstream st;
-  st << summary.kept << " objects (" << summary.found << " found; dropped " << summary.dropped_small << " small, "
-     << summary.dropped_truncated << " truncated, " << summary.dropped_not_selected << " not selected): "
+  st << summary.kept << " objects (" << summary.found << " found; dropped " << summary.dropped_specks << " specks, "
+     << summary.dropped_small << " small, "
+     << summary.dropped_truncated << " truncated, " << summary.dropped_not_selected << " not selected; "
+     << summary.fragments_merged << " fragments merged): "
      << d.samples.size() << " described, " << d.losses.size() << " lost; input " << volume::to_string(summary.input.kind);
   if (summary.input.threshold) st << " thresholded at " << *summary.input.threshold;
   for (const auto& w : summary.input.warnings) st << "; WARNING: " << w;

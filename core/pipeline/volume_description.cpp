@@ -9,6 +9,8 @@ namespace {
 SurfaceFigures figures_of(const volume::ObjectSurface& s) {
   SurfaceFigures f;
   f.genus = s.genus;
+  f.repair = s.repair;
+  f.repaired = s.repaired;
   f.repairs = s.repairs;
   f.vertices = s.mesh.vertex_count();
   f.faces = s.mesh.face_count();
@@ -36,16 +38,17 @@ WishError no_objects_error(const VolumeSummary& s) {
   const std::string why = s.found == 0 ? "every voxel is background (0)"
                                        : std::to_string(s.found) + " found, dropped: " +
                                              std::to_string(s.dropped_not_selected) + " not in labels, " +
+                                             std::to_string(s.dropped_specks) + " specks (min_voxels overrides), " +
                                              std::to_string(s.dropped_small) + " under min_voxels, " +
                                              std::to_string(s.dropped_truncated) + " truncated (drop_truncated)";
   return WishError(ErrorCategory::Unmappable, "no_objects", "the label volume has no object to describe: " + why,
                    {{"objects_found", s.found}, {"not_selected", s.dropped_not_selected},
-                    {"small", s.dropped_small}, {"truncated", s.dropped_truncated}});
+                    {"specks", s.dropped_specks}, {"small", s.dropped_small}, {"truncated", s.dropped_truncated}});
 }
 
 VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& options, const ObjectWork& work,
                               const ObjectResultCallback& on_object, const Deadline& deadline,
-                              const SummaryCallback& on_summary) {
+                              const SummaryCallback& on_summary, const VolumeCompleteCallback& on_complete) {
   std::int64_t kept = 0;
   return for_each_object_surface(
       bytes, options,
@@ -77,7 +80,8 @@ VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& optio
       [&](const VolumeSummary& s) {
         kept = s.kept;
         if (on_summary) on_summary(s);
-      });
+      },
+      on_complete);
 }
 
 }  // namespace wish

@@ -23,7 +23,9 @@ namespace wish {
 
 // What an object's surface was, kept when its mesh moves on to the work.
 struct SurfaceFigures {
-  int genus = -1;  // of the voxel object's surface before any closing (-1: not a closed surface)
+  int genus = -1;  // of the voxel object's surface before any repair (-1: not a closed surface)
+  volume::TopologyRepairFigures repair;  // genus > 0: what removing the handles changes
+  bool repaired = false;                 // and whether that repair was kept
   std::vector<std::string> repairs;
   std::int64_t vertices = 0, faces = 0, vertices_before_decimation = 0;
   double area = 0, volume = 0, voxel_volume = 0, raw_area = 0;  // in the volume's unit (squared, cubed)
@@ -49,7 +51,7 @@ using ObjectResultCallback = std::function<void(std::size_t index, VolumeObjectR
 // exceeded after i of n objects" (details stage, objects_done, objects), cancelled with the deadline's error.
 VolumeSummary describe_volume(std::string_view bytes, const VolumeOptions& options, const ObjectWork& work,
                               const ObjectResultCallback& on_object, const Deadline& deadline = {},
-                              const SummaryCallback& on_summary = {});
+                              const SummaryCallback& on_summary = {}, const VolumeCompleteCallback& on_complete = {});
 
 // The refusal of a surface as an error: its code's category from the code table (Unmappable for a code it does
 // not list), details label_id and genus.

@@ -10,9 +10,6 @@ const std::array<std::array<int, 3>, 7>& kuhn_offsets() {
   return offsets;
 }
 
-namespace {
-
-// Component id per voxel of value `value` (-1 elsewhere); returns component sizes.
 std::vector<std::size_t> components(const BinaryVolume& v, std::uint8_t value, std::vector<int>& id) {
   const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
   id.assign(v.labels.size(), -1);
@@ -44,7 +41,16 @@ std::vector<std::size_t> components(const BinaryVolume& v, std::uint8_t value, s
   return sizes;
 }
 
-}  // namespace
+std::vector<bool> touching_border(const BinaryVolume& v, const std::vector<int>& id, std::size_t count) {
+  std::vector<bool> touches(count, false);
+  const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        if ((x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1) && id[v.index(x, y, z)] >= 0)
+          touches[static_cast<std::size_t>(id[v.index(x, y, z)])] = true;
+  return touches;
+}
 
 int keep_largest_component(BinaryVolume& v) {
   std::vector<int> id;
@@ -59,13 +65,7 @@ int keep_largest_component(BinaryVolume& v) {
 int fill_cavities(BinaryVolume& v) {
   std::vector<int> id;
   const auto sizes = components(v, 0, id);
-  std::vector<bool> touches(sizes.size(), false);
-  const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
-  for (int z = 0; z < nz; ++z)
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x)
-        if ((x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1) && id[v.index(x, y, z)] >= 0)
-          touches[id[v.index(x, y, z)]] = true;
+  const std::vector<bool> touches = touching_border(v, id, sizes.size());
   int filled = 0;
   for (std::size_t c = 0; c < sizes.size(); ++c) filled += !touches[c];
   for (std::size_t i = 0; i < v.labels.size(); ++i)
@@ -79,37 +79,6 @@ void clear_border(BinaryVolume& v) {
     for (int y = 0; y < ny; ++y)
       for (int x = 0; x < nx; ++x)
         if (x == 0 || y == 0 || z == 0 || x == nx - 1 || y == ny - 1 || z == nz - 1) v.labels[v.index(x, y, z)] = 0;
-}
-
-namespace {
-
-// One dilation (value 1) or erosion (value 0) step with the 6-neighbourhood: a voxel takes `value` when it or one of
-// its 6 face neighbours has it.
-void cross_step(BinaryVolume& v, std::uint8_t value) {
-  const int nx = v.dims[0], ny = v.dims[1], nz = v.dims[2];
-  const std::vector<std::uint8_t> src = v.labels;
-  for (int z = 0; z < nz; ++z)
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x) {
-        const std::size_t i = v.index(x, y, z);
-        if (src[i] == value) continue;
-        const bool near = (x > 0 && src[i - 1] == value) || (x + 1 < nx && src[i + 1] == value) ||
-                          (y > 0 && src[i - nx] == value) || (y + 1 < ny && src[i + nx] == value) ||
-                          (z > 0 && src[i - static_cast<std::size_t>(nx) * ny] == value) ||
-                          (z + 1 < nz && src[i + static_cast<std::size_t>(nx) * ny] == value);
-        if (near) v.labels[i] = value;
-      }
-}
-
-}  // namespace
-
-std::int64_t morphological_close(BinaryVolume& v, int radius) {
-  std::int64_t before = 0, after = 0;
-  for (auto l : v.labels) before += l;
-  for (int r = 0; r < radius; ++r) cross_step(v, 1);
-  for (int r = 0; r < radius; ++r) cross_step(v, 0);
-  for (auto l : v.labels) after += l;
-  return after - before;
 }
 
 }  // namespace wish::volume

@@ -29,14 +29,17 @@ struct BinaryVolume {
 // The 7 positive Kuhn-triangulation offsets (the 14-neighbourhood is these and their negatives).
 const std::array<std::array<int, 3>, 7>& kuhn_offsets();
 
+// The 14-connected components of the voxels of value `value`: `id` gets a component number per voxel (-1 for the
+// other value); returns the components' sizes, numbered in scan order (z, y, x).
+std::vector<std::size_t> components(const BinaryVolume& volume, std::uint8_t value, std::vector<int>& id);
+// Per component of `id` (as components() numbers them, `count` of them): whether it has a voxel on the border layer.
+std::vector<bool> touching_border(const BinaryVolume& volume, const std::vector<int>& id, std::size_t count);
+
 // Keeps only the largest 14-connected foreground component; returns the number of components found.
 int keep_largest_component(BinaryVolume& volume);
 // Sets background components that do not touch the volume border to foreground; returns how many were filled.
 int fill_cavities(BinaryVolume& volume);
 // Clears the outermost layer so the surface is closed inside the grid.
 void clear_border(BinaryVolume& volume);
-// Morphological closing with the 6-neighbourhood cross, `radius` dilations then `radius` erosions (the border layer
-// must be background and `radius` + 1 layers free for the result to be exact). Returns the voxels added.
-std::int64_t morphological_close(BinaryVolume& volume, int radius);
 
 }  // namespace wish::volume

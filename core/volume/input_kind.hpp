@@ -27,7 +27,7 @@
 
 namespace wish::volume {
 
-enum class ObjectMode;  // Auto, Labels, Components: core/volume/label_objects.hpp
+enum class ObjectMode;  // Auto, Labels, Components: core/volume/object_mode.hpp
 
 enum class InputKind { Labels, Mask, SoftMask, ProbabilityMap };
 const char* to_string(InputKind kind);

@@ -50,34 +50,6 @@ int clean(BinaryVolume& box, std::vector<std::string>& repairs) {
   return pieces;
 }
 
-// The smallest closing (radius 1 .. max_radius) that leaves a genus-0 surface, as a candidate to keep or to report.
-struct Closing {
-  int radius = 0;  // 0: none found
-  std::int64_t added = 0;
-  BinaryVolume box;
-  Mesh mesh;
-  SurfaceTopology topology;
-  std::vector<std::string> notes;
-};
-
-Closing smallest_closing(const BinaryVolume& box, int max_radius) {
-  const std::int64_t before = count_foreground(box);
-  for (int r = 1; r <= max_radius; ++r) {
-    Closing c;
-    c.box = box;
-    morphological_close(c.box, r);
-    clean(c.box, c.notes);
-    c.mesh = marching_tetrahedra(c.box);
-    c.topology = analyze_surface(c.mesh);
-    if (genus_of(c.topology) == 0) {
-      c.radius = r;
-      c.added = count_foreground(c.box) - before;
-      return c;
-    }
-  }
-  return {};
-}
-
 // What was found about a genus > 0 object and what would help, for the refusal.
 std::string handle_findings(const ObjectSurface& s, const SurfaceOptions& options) {
   std::string out;
@@ -91,15 +63,11 @@ std::string handle_findings(const ObjectSurface& s, const SurfaceOptions& option
     out += "; it touches no other object";
   }
   if (s.pieces > 1) out += fmt("; it has %.0f separate pieces (the largest was meshed)", s.pieces);
-  if (s.closing_radius > 0)
-    out += fmt("; --close-handles would close it (closing of radius %.0f, volume +%.2f %%", s.closing_radius,
-               100 * s.closing_share) +
-           (options.default_closing_share > 0
-                ? fmt("; by default only closings adding at most %.2f %% are kept)", 100 * options.default_closing_share)
-                : std::string(")"));
-  else
-    out += fmt("; a closing up to radius %.0f does not remove the handles (a true hole: --close-handles cannot help)",
-               options.max_closing_radius);
+  out += "; the repair that removes the handles (" + s.repair.describe() + ")" +
+         (options.max_repair_share > 0
+              ? fmt(" changes more than the bound of %.2f %% (--max-repair-share %.4g or --close-handles keep it)",
+                    100 * options.max_repair_share, s.repair.volume_change() * 1.0001)
+              : std::string(" is not applied: handle repair is off (--no-close-handles)"));
   return out;
 }
 
@@ -150,7 +118,7 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
                              const SurfaceOptions& options) {
   ObjectSurface out;
   auto t0 = Clock::now();
-  const int pad = 1 + std::max(0, options.max_closing_radius);  // a closing is tried on every genus > 0 object
+  const int pad = 2;  // the border layer stays background, with a layer for the repair's growth from it
   BinaryVolume box;
   std::int64_t box_voxels = 1;
   for (int k = 0; k < 3; ++k) {
@@ -181,21 +149,15 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
   SurfaceTopology topology = analyze_surface(mesh);
   out.genus = genus_of(topology);
   if (out.genus > 0) {
-    // Tried whether or not it is kept: a refusal then says what --close-handles would change.
-    Closing c = smallest_closing(box, options.max_closing_radius);
-    out.closing_radius = c.radius;
-    out.closing_share = c.radius > 0 ? static_cast<double>(c.added) / static_cast<double>(count_foreground(box)) : 0;
-    const bool by_default = !options.close_handles && out.closing_share <= options.default_closing_share;
-    if (c.radius > 0 && (options.close_handles || by_default)) {
-      out.repairs.push_back(fmt("morphological closing of radius %.0f (+%.0f voxels, volume +%.2f %%) removed genus %.0f",
-                                c.radius, static_cast<double>(c.added), 100 * out.closing_share, out.genus) +
-                            (by_default ? fmt(" (default: kept as it adds at most %.2f %%; --no-close-handles keeps the "
-                                              "handles)", 100 * options.default_closing_share)
-                                        : std::string()));
-      for (auto& n : c.notes) out.repairs.push_back("after closing: " + n);
-      box = std::move(c.box);
-      mesh = std::move(c.mesh);
-      topology = c.topology;
+    // Measured whether or not it is kept: a refusal then says what the repair would change.
+    TopologyRepair repair = remove_handles(box);
+    out.repair = repair.figures;
+    if (out.repair.volume_change() <= options.max_repair_share) {
+      out.repaired = true;
+      out.repairs.push_back("removed the handles: " + out.repair.describe());
+      box = std::move(repair.result);
+      mesh = marching_tetrahedra(box);
+      topology = analyze_surface(mesh);
     }
   }
   out.voxels_meshed = count_foreground(box);

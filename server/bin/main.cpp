@@ -79,6 +79,10 @@ int main(int argc, char** argv) {
   c.web_dir = WISH_WEB_DIR_DEFAULT;
   app.add_option("--web-dir", c.web_dir, "Directory of the web page served at GET / ('' for none)")
       ->envname("WISH_WEB_DIR")->capture_default_str();
+  c.three_dir = WISH_THREE_DIR_DEFAULT;
+  app.add_option("--three-dir", c.three_dir,
+                 "Directory of the three.js the page imports (Debian's libjs-three), served under /vendor/three/")
+      ->envname("WISH_THREE_DIR")->capture_default_str();
   app.add_option("--auth-token", c.auth_token, "Require 'Authorization: Bearer TOKEN' on /v1/* (prefer the env var)")
       ->envname("WISH_AUTH_TOKEN");
   app.add_flag("--json-log", c.json_log, "One JSON object per log line")->envname("WISH_JSON_LOG");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/classify/global_descriptors.hpp"
+#include "core/classify/standard_scaler.hpp"
 #include "core/classify/training.hpp"
 
 namespace wish::testing {
@@ -57,6 +58,24 @@ inline TrainOptions quick_train_options(std::uint64_t seed = 7) {
   o.nested_inner_splits = 3;
   o.trained_at = "2024-01-01T00:00:00Z";
   return o;
+}
+
+// synthetic_samples as a z-scored feature matrix (log xi(1..6)) with class indices: what a grid search sees.
+struct StandardizedData {
+  Eigen::MatrixXd X;
+  std::vector<int> y;
+};
+
+inline StandardizedData standardized(int classes, int per_class, std::uint64_t seed, double noise = 0.35) {
+  const auto samples = synthetic_samples(classes, per_class, seed, 8, noise);
+  FeatureSpec spec;
+  spec.l_max = 6;
+  spec.log_transform = true;
+  StandardizedData d;
+  std::vector<std::string> names;
+  build_feature_matrix(samples, spec, d.X, d.y, names);
+  d.X = StandardScaler::fit(d.X).transform(d.X);
+  return d;
 }
 
 }  // namespace wish::testing

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "core/classify/descriptor_table.hpp"
+#include "core/classify/feature_pipeline.hpp"
 #include "core/classify/global_descriptors.hpp"
 #include "core/common/errors.hpp"
 #include "tests/classify/classify_test_data.hpp"
@@ -21,6 +22,39 @@ TEST(DescriptorTable, RoundTripWithLabelsAndGlobals) {
     EXPECT_EQ(t.samples[i].features.invariants, samples[i].features.invariants);  // 17 digits: exact
     EXPECT_EQ(t.samples[i].features.global, samples[i].features.global);
   }
+}
+
+// Issue 38: the spectrum (lb_1..lb_n) and the canonical SH coefficients (csh_<l>_<m>_<axis>, degrees 1..L) round
+// trip, and the feature pipeline reads them back for the families that use them.
+TEST(DescriptorTable, RoundTripWithSpectrumAndCanonicalCoefficients) {
+  auto samples = testing::synthetic_samples(2, 3, 4, 4);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    samples[i].features.laplace_spectrum = Eigen::VectorXd::LinSpaced(5, 2.0 + static_cast<double>(i), 30.0);
+    samples[i].features.canonical_sh = Eigen::VectorXd::LinSpaced(3 * 15, -1.0, 1.0 + static_cast<double>(i));  // L = 3
+  }
+  const std::string text = write_descriptor_table(samples);
+  EXPECT_NE(text.find(",lb_5,csh_1_-1_x,"), std::string::npos);
+  EXPECT_NE(text.find(",csh_3_3_z\n"), std::string::npos);
+  const DescriptorTable t = read_descriptor_table(text);
+  ASSERT_EQ(t.samples.size(), samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    EXPECT_EQ(t.samples[i].features.laplace_spectrum, samples[i].features.laplace_spectrum);
+    EXPECT_EQ(t.samples[i].features.canonical_sh, samples[i].features.canonical_sh);
+  }
+  FeatureSpec spec;
+  spec.family = FeatureFamily::All;
+  spec.l_min = 2;
+  spec.l_max = 3;
+  spec.spectrum_count = 4;
+  spec.log_transform = false;
+  const Eigen::VectorXd x = apply_feature_pipeline(t.samples[1].features, spec);
+  // xi(2..3), lb_1..4, csh degrees 2..3 (3 x 12 values from value 9 on), 11 global.
+  ASSERT_EQ(x.size(), 2 + 4 + 36 + 11);
+  EXPECT_EQ(static_cast<std::size_t>(x.size()), feature_names(spec).size());
+  EXPECT_EQ(x(2), samples[1].features.laplace_spectrum(0));
+  EXPECT_EQ(x(6), samples[1].features.canonical_sh(9));
+  spec.spectrum_count = 6;  // more eigenvalues than the descriptor has
+  EXPECT_THROW(apply_feature_pipeline(t.samples[1].features, spec), InvalidInputError);
 }
 
 TEST(DescriptorTable, DescribeCsvJoinedWithAManifest) {

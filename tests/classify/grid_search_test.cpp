@@ -19,22 +19,8 @@
 namespace wish {
 namespace {
 
-struct Data {
-  Eigen::MatrixXd X;
-  std::vector<int> y;
-};
-
-Data standardized(int classes, int per_class, std::uint64_t seed, double noise = 0.35) {
-  const auto samples = testing::synthetic_samples(classes, per_class, seed, 8, noise);
-  FeatureSpec spec;
-  spec.l_max = 6;
-  spec.log_transform = true;
-  Data d;
-  std::vector<std::string> names;
-  build_feature_matrix(samples, spec, d.X, d.y, names);
-  d.X = StandardScaler::fit(d.X).transform(d.X);
-  return d;
-}
+using Data = testing::StandardizedData;
+using testing::standardized;
 
 TEST(GridSearch, PrecomputedKernelGivesTheCellsOfLibsvmsRbfKernel) {
   const Data d = standardized(4, 16, 3);

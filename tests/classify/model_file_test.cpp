@@ -226,10 +226,10 @@ TEST(ModelFile, RefusesUnknownKeysAnywhereNamingThem) {
 // while a version-2 file without a version-3 field takes the field's legacy value (how version-2 builds computed).
 TEST(ModelFile, RecipeVersionsOldAndNew) {
   const auto doc = nlohmann::json::parse(trained().to_json_text());
-  ASSERT_EQ(doc["payload"]["recipe"]["recipe_version"], 3);
+  ASSERT_EQ(doc["payload"]["recipe"]["recipe_version"], 4);
   {
     auto d = doc;
-    d["payload"]["recipe"]["recipe_version"] = 4;
+    d["payload"]["recipe"]["recipe_version"] = DescriptorRecipe::kVersion + 1;
     expect_refused(reseal(d), "model_version", "written by a newer wish");
   }
   auto d = doc;
@@ -237,9 +237,11 @@ TEST(ModelFile, RecipeVersionsOldAndNew) {
   expect_refused(reseal(d), "model_invalid", "missing field payload.recipe.map.cmcf.stall_patience");
   d["payload"]["recipe"]["recipe_version"] = 2;
   d["payload"]["recipe"]["map"].erase("chain_budget_seconds");
+  d["payload"]["recipe"]["features"].erase("spectrum_count");
   const ClassifierModel v2 = ClassifierModel::from_json_text(reseal(d));
   EXPECT_EQ(v2.recipe().map.cmcf.stall_patience, 1);
   EXPECT_EQ(v2.recipe().map.chain_budget_seconds, 0.0);
+  EXPECT_EQ(v2.recipe().features.spectrum_count, 0);
   EXPECT_EQ(v2.recipe().map.linear_reserve_seconds, trained().recipe().map.linear_reserve_seconds);  // as stated
   // Written again, its version is computed from its fields: linear_reserve_seconds is a version-3 field away from
   // its legacy value 0.
@@ -571,6 +573,50 @@ TEST(ClassifierModel, PredictionRefusesMissingFeatures) {
     FAIL();
   } catch (const InvalidInputError& e) {
     EXPECT_EQ(e.code(), "feature_mismatch");
+  }
+}
+
+}  // namespace
+}  // namespace wish
+
+namespace wish {
+namespace {
+
+// Issue 38: the predicted-class rule is format 7 (payload.novelty.rule), a format-6 reader refuses it by its key,
+// and a prediction says why: one ratio per class, the reported class's ratio is score / threshold.
+TEST(ModelFile, PredictedClassNoveltyRuleIsVersion7AndSaysWhy) {
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  opts.novelty_rule = NoveltyRule::PredictedClass;
+  const ClassifierModel model = train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+  const auto doc = nlohmann::json::parse(model.to_json_text());
+  EXPECT_EQ(doc["format_version"], 7);
+  EXPECT_EQ(doc["payload"]["novelty"]["rule"], "predicted_class");
+  const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
+  EXPECT_EQ(loaded.novelty_calibration()->rule, NoveltyRule::PredictedClass);
+  EXPECT_EQ(loaded.to_json_text(), model.to_json_text());
+  for (const auto& s : testing::synthetic_samples(3, 4, 5)) {
+    const Prediction p = loaded.predict(s.features);
+    ASSERT_TRUE(p.novelty);
+    ASSERT_EQ(p.novelty->class_ratios.size(), 3u);
+    // The reported class is the predicted one, and its ratio is its score over its threshold.
+    EXPECT_EQ(model.classes()[static_cast<std::size_t>(p.novelty->group)], p.label);
+    EXPECT_NEAR(p.novelty->class_ratios[static_cast<std::size_t>(p.novelty->group)], p.novelty->score / p.novelty->threshold, 1e-12);
+    EXPECT_EQ(p.novelty->novel, p.novelty->score > p.novelty->threshold);
+    // The nearest-class rule on the same calibration reports the smallest ratio.
+    const Prediction q = trained().predict(s.features);
+    const auto& r = q.novelty->class_ratios;
+    EXPECT_EQ(r[static_cast<std::size_t>(q.novelty->group)], *std::min_element(r.begin(), r.end()));
+  }
+  {
+    auto d = doc;
+    d["format_version"] = 6;
+    expect_refused(reseal(d), "model_version", "payload.novelty.rule");
+  }
+  {
+    auto d = doc;
+    d["payload"]["novelty"]["rule"] = "loudest_class";
+    expect_refused(reseal(d), "model_invalid", "novelty.rule");
   }
 }
 

@@ -2,8 +2,10 @@
 label id; errors per object, never an object lost silently.
 
 The volumes are made in the test: small NIfTI-1 files (written here with struct, uncompressed and gzipped) holding
-voxelised ellipsoids (genus 0: described) and a voxelised torus (genus 1: refused with its reason), at anisotropic
-spacing. Environment (set by ctest): WISH_BIN, the wish executable.
+voxelised ellipsoids (genus 0: described) and a lattice of bars (genus 81: its handle repair would change 19 % of
+its voxels, over the default bound of 10 %, so it is refused with its reason), at anisotropic spacing. A torus is
+repaired by default (its tube cut): test_a_torus_is_repaired_by_default_and_refused_without_repair.
+Environment (set by ctest): WISH_BIN, the wish executable.
 """
 import csv
 import gzip
@@ -60,6 +62,12 @@ def torus(center, R, r, spacing):
     return out
 
 
+def lattice(lo=(26, 5, 2)):
+    """A 4 x 4 x 4 lattice of 2 x 2-voxel bars 4 voxels apart from voxel `lo` (synthetic_volume.in_lattice)."""
+    return [(x, y, z) for z in range(lo[2], lo[2] + 14) for y in range(lo[1], lo[1] + 14) for x in range(lo[0], lo[0] + 14)
+            if synthetic_volume.in_lattice(x, y, z, lo=lo)]
+
+
 SPACING = (1.0, 1.0, 1.5)  # anisotropic, like most microscopy
 
 
@@ -92,11 +100,11 @@ class VolumeInputs(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.dir = tempfile.mkdtemp(prefix="wish_volume_cli_")
-        # Two ellipsoids (labels 3 and 7) and a torus (label 4): two results, one refusal with its genus.
+        # Two ellipsoids (labels 3 and 7) and a lattice (label 4): two results, one refusal with its genus.
         cls.mixed = os.path.join(cls.dir, "mixed.nii")
         with open(cls.mixed, "wb") as f:
             f.write(volume([(3, ellipsoid((12, 12, 13), (6.0, 5.0, 4.5), SPACING)),
-                            (4, torus((32, 12, 13), 5.0, 2.2, SPACING)),
+                            (4, lattice()),
                             (7, ellipsoid((52, 12, 13), (8.0, 4.0, 4.0), SPACING))]))
         # Content, not the name, decides: a gzipped copy with a misleading name.
         cls.gz = os.path.join(cls.dir, "mixed-copy.dat")
@@ -109,7 +117,7 @@ class VolumeInputs(unittest.TestCase):
 
     def test_describe_json_one_row_per_object_keyed_by_label_id(self):
         p = run("describe", self.mixed, "--json", "--lmax", "6", "--method", "cmcf", "--quiet", check=False)
-        self.assertEqual(p.returncode, 1, p.stderr)  # the torus was refused
+        self.assertEqual(p.returncode, 1, p.stderr)  # the lattice was refused
         rows = json.loads(p.stdout)
         self.assertEqual([r["label_id"] for r in rows], [3, 4, 7])
         by = {r["label_id"]: r for r in rows}
@@ -120,7 +128,9 @@ class VolumeInputs(unittest.TestCase):
             self.assertFalse(by[lid]["object"]["truncated"])
             self.assertEqual(by[lid]["file"], self.mixed)
         self.assertEqual(by[4]["error"]["code"], "genus_nonzero")
-        self.assertEqual(by[4]["object"]["genus"], 1)
+        self.assertEqual(by[4]["object"]["genus"], 81)
+        self.assertFalse(by[4]["object"]["topology"]["repaired"])
+        self.assertGreater(by[4]["object"]["topology"]["repair"]["volume_change"], 0.1)
         # The object block is in physical units: the voxel volume is voxels x 1.5.
         o = by[3]["object"]
         self.assertAlmostEqual(o["surface"]["voxel_volume"] / o["voxel_count"], 1.5, delta=0.15)
@@ -164,7 +174,7 @@ class VolumeInputs(unittest.TestCase):
             self.assertEqual(r["error"]["category"], "too_large")
             self.assertEqual(r["error"]["details"]["label_id"], r["label_id"])
             self.assertIn("voxel_count", r["object"])  # the object block is reported with its refusal
-        # A shape refusal keeps its own category: without the limit the torus is unmappable (the service's 422).
+        # A shape refusal keeps its own category: without the limit the lattice is unmappable (the service's 422).
         p = run("describe", self.mixed, "--json", "--lmax", "4", "--quiet", "--label-ids", "4", check=False)
         torus = json.loads(p.stdout)[0]
         self.assertEqual((torus["error"]["code"], torus["error"]["category"]), ("genus_nonzero", "unmappable"))
@@ -191,7 +201,7 @@ class VolumeInputs(unittest.TestCase):
         # a refused one is a row with its code, and the box limit refuses with box_too_large as describe does.
         out = os.path.join(self.dir, "meshes")
         p = run("mesh-labels", self.mixed, "--out", out, "--quiet", check=False)
-        self.assertEqual(p.returncode, 1, p.stderr)  # the torus is refused
+        self.assertEqual(p.returncode, 1, p.stderr)  # the lattice is refused
         with open(os.path.join(out, "objects.csv")) as f:
             rows = {int(r["label_id"]): r for r in csv.DictReader(f)}
         self.assertEqual(sorted(rows), [3, 4, 7])
@@ -207,6 +217,25 @@ class VolumeInputs(unittest.TestCase):
         with open(os.path.join(out, "objects.csv")) as f:
             reasons = [r["reason"].split(":")[0] for r in csv.DictReader(f)]
         self.assertEqual(reasons, ["box_too_large"] * 3)
+
+    def test_a_torus_is_repaired_by_default_and_refused_without_repair(self):
+        path = os.path.join(self.dir, "torus.nii")
+        with open(path, "wb") as f:
+            f.write(volume([(4, torus((32, 12, 13), 5.0, 2.2, SPACING))]))
+        out = os.path.join(self.dir, "torus-default")
+        run("mesh-labels", path, "--out", out, "--quiet")
+        with open(os.path.join(out, "objects.csv")) as f:
+            [row] = list(csv.DictReader(f))
+        self.assertEqual((row["genus"], row["status"], row["repair"]), ("1", "meshed", "cut"))
+        self.assertLess(float(row["volume_change"]), 0.1)
+        self.assertIn("removed the handles: cut 1 handle (-", row["repairs"])
+        out = os.path.join(self.dir, "torus-off")
+        p = run("mesh-labels", path, "--out", out, "--quiet", "--no-close-handles", check=False)
+        self.assertEqual(p.returncode, 1)
+        with open(os.path.join(out, "objects.csv")) as f:
+            [row] = list(csv.DictReader(f))
+        self.assertEqual(row["status"], "refused")
+        self.assertIn("handle repair is off", row["reason"])
 
     def test_unreadable_volume_is_one_error_row(self):
         bad = os.path.join(self.dir, "truncated.nii")
@@ -259,7 +288,7 @@ class VolumeInputs(unittest.TestCase):
             preds = json.loads(p.stdout)["predictions"]
             self.assertEqual([r["label_id"] for r in preds], ids_expected)
             self.assertEqual([r["label"] for r in preds], [cls] * 3, preds)
-        # The torus of the mixed volume is a per-object error row; the others are predicted.
+        # The lattice of the mixed volume is a per-object error row; the others are predicted.
         p = run("predict", "--model", model, self.mixed, "--csv", "--quiet", check=False)
         self.assertEqual(p.returncode, 1)
         got = {r["label_id"]: r["label"] for r in csv.DictReader(io.StringIO(p.stdout))}
@@ -285,7 +314,7 @@ class VolumeInputs(unittest.TestCase):
                 for i in ids:
                     f.write(f"{os.path.basename(path)},{cls},{i}\n")
             f.write("mixed.nii,long,7\n")    # one object of a volume with others: only it
-            f.write("mixed.nii,round,4\n")   # the torus: lost, genus_nonzero
+            f.write("mixed.nii,round,4\n")   # the lattice: lost, genus_nonzero
             f.write("mixed.nii,round,42\n")  # no such label: lost, label_not_kept
         report = os.path.join(self.dir, "manifest-report.json")
         desc = os.path.join(self.dir, "manifest-desc.csv")

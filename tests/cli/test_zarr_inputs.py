@@ -3,7 +3,7 @@ them: a store directory or its zip named on the command line (or in a class fold
 objects its NIfTI original gives (ids, voxel counts, bounding boxes, surfaces, and ξ).
 
 The stores are written by Debian's python3-zarr (tests/testing/ome_zarr_writer.py: an independent writer) from small
-synthetic volumes (tests/cli/test_volume_inputs.py's ellipsoids and torus), one per chunk compressor (zlib, gzip,
+synthetic volumes (tests/cli/test_volume_inputs.py's ellipsoids and lattice), one per chunk compressor (zlib, gzip,
 zstd, blosc lz4, blosc zstd, none), in C and F order, big-endian, with size-1 t and c axes, and as a ZipStore zip; and,
 when ../shared/data/urocell is present, from a UroCell mitochondria volume. Environment (set by ctest): WISH_BIN.
 """
@@ -19,7 +19,7 @@ import numpy as np
 
 import ome_zarr_writer
 import synthetic_volume
-from test_volume_inputs import SPACING, ellipsoid, long_volume, read_text, round_volume, run, torus, volume
+from test_volume_inputs import SPACING, ellipsoid, lattice, long_volume, read_text, round_volume, run, volume
 
 SHARED = os.environ.get("WISH_SHARED_DATA", os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data"))
 CODECS = ("zlib", "gzip", "zstd", "blosc", "blosc-zstd", "none")
@@ -52,7 +52,7 @@ class ZarrInputs(unittest.TestCase):
         cls.nifti = os.path.join(cls.dir, "mixed.nii")
         with open(cls.nifti, "wb") as f:
             f.write(volume([(3, ellipsoid((12, 12, 13), (6.0, 5.0, 4.5), SPACING)),
-                            (4, torus((32, 12, 13), 5.0, 2.2, SPACING)),
+                            (4, lattice()),
                             (7, ellipsoid((52, 12, 13), (8.0, 4.0, 4.0), SPACING))]))
         cls.labels, cls.spacing, cls.unit = nifti_labels(cls.nifti)
         cls.stores = {}
@@ -85,7 +85,7 @@ class ZarrInputs(unittest.TestCase):
         out = os.path.join(self.dir, "meshes")
         names = [n for n in self.stores if n != "zip"]
         p = run("mesh-labels", self.nifti, *[self.stores[n] for n in names], "--out", out, "--quiet", check=False)
-        self.assertEqual(p.returncode, 1, p.stderr)  # the torus (label 4) is refused in every copy
+        self.assertEqual(p.returncode, 1, p.stderr)  # the lattice (label 4) is refused in every copy
         by = objects_by_volume(os.path.join(out, "objects.csv"))
         expected = by["mixed"]
         self.assertEqual([r["label_id"] for r in expected], ["3", "4", "7"])

@@ -1,7 +1,7 @@
 """The Python client and the batch CLI with label volumes, against the real `wish serve`: classify_volume /
 describe_volume parse one entry per object keyed by label id, and `wish-client classify` writes one row per object
 (resumable). The volume is made here (tests/testing/synthetic_volume.py: two ellipsoids, a small ball, a border box,
-a torus)."""
+a lattice of genus 81)."""
 
 from __future__ import annotations
 
@@ -100,7 +100,7 @@ class ClientVolumeTest(unittest.TestCase):
         out = self.tmp / "rows.csv"
         code, _, err = run_cli("classify", str(folder), "--server", self.url, "--out", str(out), "--no-progress",
                                "--min-voxels", "20", "--labels", "1,2,3,5")
-        self.assertEqual(code, EXIT_FAILED, err)  # the torus is refused, so the run reports a failure
+        self.assertEqual(code, EXIT_FAILED, err)  # the lattice is refused, so the run reports a failure
         with out.open(newline="") as f:
             rows = list(csv.DictReader(f))
         volume_rows = [r for r in rows if r["file"].endswith("cells.nii.gz")]

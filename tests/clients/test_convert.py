@@ -231,7 +231,8 @@ class CppComparisonTest(unittest.TestCase):
         self.assertEqual([row["label"] for row in rows], list(self.pipe.predict(self.features)))
         # Probabilities too: libsvm's Platt scaling, replayed by the C++ engine, against scikit-learn's.
         for row, expected in zip(rows, self.pipe.predict_proba(self.features)):
-            got = [row["probabilities"][c] for c in self.pipe.classes_]
+            probabilities = {p["label"]: p["probability"] for p in row["probabilities"]}  # wire's list, as the service's
+            got = [probabilities[c] for c in self.pipe.classes_]
             self.assertLess(max(abs(a - b) for a, b in zip(got, expected)), 1e-5)
 
     def test_wish_predict_refuses_a_table_of_another_lmax(self) -> None:

@@ -38,7 +38,7 @@ class DockerfileLintTest(unittest.TestCase):
             "DF004": self.good.replace("RUN bash scripts/install-deps.sh",
                                        "RUN curl -fsSL https://example.org/x.sh | sh && bash scripts/install-deps.sh"),
             "DF005": self.good.replace(" && rm -rf /var/lib/apt/lists/* /tmp/runtime-packages.txt", ""),
-            "DF006": self.good.replace("RUN bash scripts/install-deps.sh && rm -rf /var/lib/apt/lists/*",
+            "DF006": self.good.replace("RUN bash scripts/install-deps.sh --image && rm -rf /var/lib/apt/lists/*",
                                        "RUN apt-get update && apt-get install -y --no-install-recommends cmake "
                                        "&& rm -rf /var/lib/apt/lists/*"),
             "DF007": self.good.replace("--no-install-recommends ca-certificates", "ca-certificates"),

@@ -121,19 +121,22 @@ TEST(ParseComputeParams, VolumeParametersMirrorMeshLabels) {
   const ComputeParams p = parse_compute_params(
       Operation::Describe,
       {{"spacing", "0.016, 0.016,0.015"}, {"unit", "um"}, {"objects", "Components"}, {"min_voxels", "50"},
-       {"drop_truncated", "TRUE"}, {"labels", "3,7, 12"}, {"threshold", "0.5"}},
+       {"drop_truncated", "TRUE"}, {"labels", "3,7, 12"}, {"threshold", "0.5"}, {"fragment_gap", "-1"},
+       {"max_repair_share", "0"}},
       config());
   ASSERT_TRUE(p.volume.spacing);
   EXPECT_DOUBLE_EQ((*p.volume.spacing)[2], 0.015);
   EXPECT_EQ(p.volume.unit, "um");
-  EXPECT_EQ(p.volume.objects, "components");
+  EXPECT_EQ(p.volume.objects, volume::ObjectMode::Components);
   EXPECT_EQ(p.volume.min_voxels, 50);
   EXPECT_TRUE(p.volume.drop_truncated);
-  EXPECT_EQ(p.volume.labels, (std::vector<std::uint32_t>{3, 7, 12}));
+  EXPECT_EQ(p.volume.label_ids, (std::vector<std::uint32_t>{3, 7, 12}));
   ASSERT_TRUE(p.volume.threshold);
   EXPECT_EQ(*p.volume.threshold, 0.5);
-  EXPECT_EQ(p.volume.given.size(), 7u);
-  EXPECT_TRUE(parse_compute_params(Operation::Describe, {}, config()).volume.given.empty());
+  EXPECT_EQ(p.volume.fragment_gap, -1);
+  EXPECT_EQ(p.volume.max_repair_share, 0.0);
+  EXPECT_EQ(p.volume_given.size(), 9u);
+  EXPECT_TRUE(parse_compute_params(Operation::Describe, {}, config()).volume_given.empty());
 }
 
 TEST(ParseComputeParams, VolumeParameterRefusals) {
@@ -141,7 +144,8 @@ TEST(ParseComputeParams, VolumeParameterRefusals) {
            {"spacing", "1,1"}, {"spacing", "1,-1,1"}, {"spacing", "1,nan,1"}, {"spacing", "1,1,1,1"},
            {"unit", "n m"}, {"unit", ""}, {"objects", "cells"}, {"min_voxels", "-3"}, {"drop_truncated", "2"},
            {"labels", "0"}, {"labels", "1,,2"}, {"labels", "-4"}, {"labels", "4294967296"}, {"threshold", "0"},
-           {"threshold", "half"}, {"threshold", "inf"}}) {
+           {"threshold", "half"}, {"threshold", "inf"}, {"fragment_gap", "-2"}, {"fragment_gap", "65"},
+           {"max_repair_share", "-0.1"}, {"max_repair_share", "nan"}}) {
     const auto e = thrown([&, n = name, v = value] { parse_compute_params(Operation::Describe, {{n, v}}, config()); });
     EXPECT_EQ(e.code(), "invalid_parameter") << name << "=" << value;
     EXPECT_EQ(detail(e, "parameter"), name) << value;

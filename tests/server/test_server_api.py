@@ -79,8 +79,8 @@ class ServerApiTest(unittest.TestCase):
             return "nm"
         params = [h.OPENAPI["components"]["parameters"][p["$ref"].split("/")[-1]]
                   for p in h.OPENAPI["paths"]["/v1/describe"]["post"]["parameters"]]
-        volume_only = {"spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "threshold", "label_image",
-                       "level"}
+        volume_only = {"spacing", "unit", "objects", "min_voxels", "fragment_gap", "max_repair_share", "drop_truncated",
+                       "labels", "threshold", "label_image", "level", "output"}
         for p in params:
             r = self.server.post_mesh("/v1/describe?%s=%s" % (p["name"], sample(p["schema"])), self.sphere_off)
             body = r.json()

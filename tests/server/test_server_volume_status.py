@@ -1,11 +1,11 @@
 """The status of a label volume answer follows its objects' as a batch's follows its parts' (proto/openapi.json,
 VolumeResult; test_server_batch_status.py for batches): every object described is 200; every object refused alike is
-that status (422 for a torus), with the VolumeResult still listing every object and the first refusal at the top
+that status (422 for a lattice whose handle repair exceeds the bound), with the VolumeResult still listing every object and the first refusal at the top
 level; objects that differ are 207 Multi-Status; a volume with no object left to describe is 422 `no_objects`.
 As a multipart part, a volume has that status itself, and the batch's status follows its parts' as before.
 
 The volumes are made here from the ellipsoid scene (tests/testing/synthetic_volume.py): the scene itself (four
-mappable objects and a torus), the scene without its torus, the torus alone, and an all-background volume."""
+mappable objects and a lattice), the scene without its lattice, the lattice alone, and an all-background volume."""
 import os
 import shutil
 import subprocess
@@ -20,7 +20,7 @@ SKIP = h.skip_reason_binary()
 sys.path.insert(0, os.path.join(h.SOURCE_DIR, "clients", "python"))
 from wish_client import DescribeResult, RetryPolicy, VolumeResult, WishClient, WishServerError  # noqa: E402
 
-TORUS = 5  # the scene's genus-1 object (synthetic_volume.py)
+LATTICE = 5  # the scene's genus-81 object, refused by default (synthetic_volume.py)
 
 
 def keep_only(labels, keep):
@@ -37,14 +37,14 @@ class VolumeStatusTest(unittest.TestCase):
         cls.server = h.Server(models_dir=h.models_dir_with_default(cls.tmp), args=["--workers", "2"])
         labels, counts = sv.ellipsoid_scene()
         cls.scene = sv.nifti_bytes(labels)                                                   # 200 x4, 422
-        cls.good = sv.nifti_bytes(keep_only(labels, set(counts) - {TORUS}))                  # all 200
-        cls.torus = sv.nifti_bytes(keep_only(labels, {TORUS}))                               # all 422
+        cls.good = sv.nifti_bytes(keep_only(labels, set(counts) - {LATTICE}))                  # all 200
+        cls.lattice = sv.nifti_bytes(keep_only(labels, {LATTICE}))                               # all 422
         cls.empty = sv.nifti_bytes(bytes(len(labels)))                                       # no object
         cls.genus4 = h.read_bytes(h.shared("negative", "anchor.off"))                        # a 422 mesh
         cls.sphere = h.read_bytes(h.shared("genus0_closed", "sphere.off"))                   # a 200 mesh
         cls.found = len(counts)
         cls.paths = {}
-        for name in ("scene", "torus"):
+        for name in ("scene", "lattice"):
             cls.paths[name] = os.path.join(cls.tmp, name + ".nii")
             with open(cls.paths[name], "wb") as f:
                 f.write(getattr(cls, name))
@@ -73,11 +73,11 @@ class VolumeStatusTest(unittest.TestCase):
 
     def test_every_object_refused_is_that_status_with_every_object(self):
         for op in ("describe", "classify"):
-            r, body = self.raw(self.torus, op=op)
+            r, body = self.raw(self.lattice, op=op)
             self.assertEqual(r.status, 422, r.body[:400])
             h.validate("VolumeResult", body)  # not a bare Error: the objects are still there to read
-            # One label value: `objects=auto` reads it as a mask (component 1); the object is the torus, genus 1.
-            self.assertEqual([o["object"]["genus"] for o in body["objects"]], [1])
+            # One label value: `objects=auto` reads it as a mask (component 1); the object is the lattice, genus 81.
+            self.assertEqual([o["object"]["genus"] for o in body["objects"]], [81])
             self.assertEqual(self.object_statuses(body), [422])
             self.assertEqual(body["objects"][0]["error"]["code"], "genus_nonzero")
             self.assertEqual(body["error"], body["objects"][0]["error"])  # like every error answer
@@ -89,10 +89,10 @@ class VolumeStatusTest(unittest.TestCase):
         h.validate("VolumeResult", body)
         self.assertEqual(self.object_statuses(body), [200] * (self.found - 1) + [422])
         self.assertNotIn("error", body)  # a 207 is not an error answer
-        # The filters choose the objects the rule is taken over: the same volume, torus only or without it.
-        self.assertEqual(self.raw(self.scene, "?labels=%d" % TORUS)[0].status, 422)
+        # The filters choose the objects the rule is taken over: the same volume, lattice only or without it.
+        self.assertEqual(self.raw(self.scene, "?labels=%d" % LATTICE)[0].status, 422)
         self.assertEqual(self.raw(self.scene, "?labels=1,2")[0].status, 200)
-        self.assertEqual(self.raw(self.scene, "?labels=1,%d" % TORUS, op="classify")[0].status, 207)
+        self.assertEqual(self.raw(self.scene, "?labels=1,%d" % LATTICE, op="classify")[0].status, 207)
 
     def test_an_object_past_the_box_limit_is_its_own_413(self):
         # A per-object limit takes its own status, not the 422 of a shape refusal: every object over the box limit
@@ -136,19 +136,19 @@ class VolumeStatusTest(unittest.TestCase):
 
         status, parts, body = batch(("good", self.good), ("mesh", self.sphere))
         self.assertEqual((status, parts), (200, [200, 200]))
-        status, parts, body = batch(("torus", self.torus))
+        status, parts, body = batch(("lattice", self.lattice))
         self.assertEqual((status, parts), (422, [422]))
         item = body["results"][0]
         self.assertEqual(item["error"]["code"], "genus_nonzero")
         self.assertEqual(body["error"], item["error"])
         self.assertEqual(self.object_statuses(item["result"]), [422])  # the part keeps its objects
-        status, parts, body = batch(("torus", self.torus), ("badmesh", self.genus4))
+        status, parts, body = batch(("lattice", self.lattice), ("badmesh", self.genus4))
         self.assertEqual((status, parts), (422, [422, 422]))  # a volume refused and a mesh refused alike
         status, parts, body = batch(("scene", self.scene))
         self.assertEqual((status, parts), (207, [207]))
         self.assertNotIn("error", body["results"][0])
         self.assertEqual(self.object_statuses(body["results"][0]["result"]), [200] * (self.found - 1) + [422])
-        status, parts, body = batch(("good", self.good), ("torus", self.torus))
+        status, parts, body = batch(("good", self.good), ("lattice", self.lattice))
         self.assertEqual((status, parts), (207, [200, 422]))
         status, parts, body = batch(("empty", self.empty))
         self.assertEqual((status, parts), (422, [422]))
@@ -165,7 +165,7 @@ class VolumeStatusTest(unittest.TestCase):
                                   capture_output=True, text=True, timeout=120)
             return done.returncode, done.stdout
 
-        self.assertEqual(curl(self.paths["torus"]), (22, "422"))  # curl -f: exit 22 on HTTP >= 400
+        self.assertEqual(curl(self.paths["lattice"]), (22, "422"))  # curl -f: exit 22 on HTTP >= 400
         self.assertEqual(curl(self.paths["scene"]), (0, "207"))
 
     def test_python_client_reads_objects_of_every_answer(self):
@@ -173,7 +173,7 @@ class VolumeStatusTest(unittest.TestCase):
         client = WishClient("http://127.0.0.1:%d" % self.server.port, timeout=120,
                             retry=RetryPolicy(max_attempts=4, base_delay=0.01),
                             on_retry=lambda attempt, delay, err: retries.append(err))
-        out = client.describe_volume(("torus.nii", self.torus))                          # HTTP 422
+        out = client.describe_volume(("lattice.nii", self.lattice))                          # HTTP 422
         self.assertEqual([(o.status, o.error.code) for o in out.objects], [(422, "genus_nonzero")])
         out = client.classify_volume(("scene.nii", self.scene))                          # HTTP 207
         self.assertEqual([o.ok for o in out.objects], [True] * (self.found - 1) + [False])
@@ -186,7 +186,7 @@ class VolumeStatusTest(unittest.TestCase):
         # describe()/classify() take a volume as they take a mesh: alone it is sent as a volume upload, among
         # meshes as a multipart part; either way it comes back as a VolumeResult, refused objects included.
         client = WishClient("http://127.0.0.1:%d" % self.server.port, timeout=120)
-        out = client.describe([("scene.nii", self.scene), ("sphere.off", self.sphere), ("torus.nii", self.torus)])
+        out = client.describe([("scene.nii", self.scene), ("sphere.off", self.sphere), ("lattice.nii", self.lattice)])
         self.assertIsInstance(out[0], VolumeResult)
         self.assertEqual([o.ok for o in out[0].objects], [True] * (self.found - 1) + [False])
         self.assertIsInstance(out[1], DescribeResult)

@@ -1,6 +1,6 @@
 """Label volume uploads on /v1/describe and /v1/classify: one result or one error per object, keyed by label id,
 validated against proto/openapi.json (VolumeResult); volume parameters as `wish mesh-labels`; the volume limits.
-The volumes are made here (tests/testing/synthetic_volume.py: ellipsoids, a small ball, a border box, a torus)."""
+The volumes are made here (tests/testing/synthetic_volume.py: ellipsoids, a small ball, a border box, a lattice of genus 81)."""
 import math
 import os
 import shutil
@@ -39,7 +39,7 @@ class ServerVolumeTest(unittest.TestCase):
 
     def test_one_entry_per_object_keyed_by_label_id(self):
         r, body = self.describe(self.nii)
-        self.assertEqual(r.status, 207, body)  # the torus is refused, the others not (test_server_volume_status.py)
+        self.assertEqual(r.status, 207, body)  # the lattice is refused, the others not (test_server_volume_status.py)
         h.validate("VolumeResult", body)
         self.assertEqual(body["request_id"], r.header("X-Request-Id"))
         self.assertEqual(body["volume"]["format"], "nifti")
@@ -62,11 +62,11 @@ class ServerVolumeTest(unittest.TestCase):
             # The surface encloses about the voxel volume (marching surface + volume-preserving smoothing).
             s = o["object"]["surface"]
             self.assertLess(abs(s["volume"] / s["voxel_volume"] - 1), 0.1, s)
-        # The border box is kept and flagged; the torus is refused on its own, with its genus.
+        # The border box is kept and flagged; the lattice is refused on its own, with its genus.
         self.assertTrue(objects[4]["object"]["truncated"])
         self.assertEqual(objects[5]["status"], 422)
         self.assertEqual(objects[5]["error"]["code"], "genus_nonzero")
-        self.assertEqual(objects[5]["object"]["genus"], 1)
+        self.assertEqual(objects[5]["object"]["genus"], 81)
         self.assertEqual(body["counts"]["refused"], 1)
         self.assertEqual(body["counts"]["described"], body["counts"]["objects"] - 1)
 
@@ -81,9 +81,9 @@ class ServerVolumeTest(unittest.TestCase):
 
     def test_filters_mirror_mesh_labels(self):
         r, body = self.describe(self.nii, "?min_voxels=20&drop_truncated=true&labels=1,3,4,5")
-        self.assertEqual(r.status, 207, body)  # 1 described, 5 (the torus) refused
+        self.assertEqual(r.status, 207, body)  # 1 described, 5 (the lattice) refused
         self.assertEqual([o["label_id"] for o in body["objects"]], [1, 5])
-        self.assertEqual(body["volume"]["dropped"], {"not_selected": 1, "small": 1, "truncated": 1})
+        self.assertEqual(body["volume"]["dropped"], {"not_selected": 1, "speck": 0, "small": 1, "truncated": 1})
 
     def test_spacing_scales_the_surface(self):
         # Metamorphic: a uniform voxel size s scales lengths by s, areas by s^2, volumes by s^3 and the centroid by s.
@@ -118,7 +118,7 @@ class ServerVolumeTest(unittest.TestCase):
             self.skipTest("no default model")
         r = self.server.post_mesh("/v1/classify?labels=1,2,5", self.nii)
         body = r.json()
-        self.assertEqual(r.status, 207, body)  # 5 is the torus
+        self.assertEqual(r.status, 207, body)  # 5 is the lattice
         h.validate("VolumeResult", body)
         objects = by_label(body)
         for label in (1, 2):
@@ -143,7 +143,7 @@ class ServerVolumeTest(unittest.TestCase):
         self.assertEqual(mesh["status"], 400)
         self.assertEqual(mesh["error"]["details"]["parameter"], "labels")
         r = self.server.post_multipart("/v1/describe", [("mesh", "cells.nii", self.nii), ("mesh2", "sphere.off", sphere)])
-        # The whole scene: its objects differ (the torus is refused), so the volume part is 207 itself.
+        # The whole scene: its objects differ (the lattice is refused), so the volume part is 207 itself.
         self.assertEqual([x["status"] for x in r.json()["results"]], [207, 200])
         self.assertEqual(r.status, 207)
 

@@ -1,8 +1,11 @@
 """The web page's side of `wish serve`: the include=mesh,sphere,distortion geometry block (checked against the
-map-quality summaries it must agree with) and the static files at GET / (content types, no way out of --web-dir)."""
+map-quality summaries it must agree with), the static files at GET / (content types, no way out of --web-dir or
+--three-dir) and the page as served by default: web/src with Debian's three.js under /vendor/three/."""
 import json
 import math
 import os
+import posixpath
+import re
 import shutil
 import tempfile
 import unittest
@@ -145,7 +148,22 @@ class StaticFilesTest(unittest.TestCase):
         with open(os.path.join(cls.tmp, "outside.txt"), "w") as f:
             f.write("outside the web directory")
         os.symlink(os.path.join(cls.tmp, "outside.txt"), os.path.join(cls.web, "escape.txt"))
-        cls.server = h.Server(args=["--web-dir", cls.web, "--auth-token", "s3cret"])
+        # A three.js directory laid out as Debian's libjs-three: build/three.module.js a relative symlink to the file
+        # beside build/ (allowed: it stays inside the directory), an addon under examples/jsm/.
+        cls.three = os.path.join(cls.tmp, "three")
+        os.makedirs(os.path.join(cls.three, "build"))
+        os.makedirs(os.path.join(cls.three, "examples", "jsm", "controls"))
+        with open(os.path.join(cls.three, "three.module.js"), "w") as f:
+            f.write("export const REVISION = 'test';\n")
+        os.symlink("../three.module.js", os.path.join(cls.three, "build", "three.module.js"))
+        with open(os.path.join(cls.three, "examples", "jsm", "controls", "Orbit.js"), "w") as f:
+            f.write('import { REVISION } from "../../../build/three.module.js";\n')
+        os.symlink(os.path.join(cls.tmp, "outside.txt"), os.path.join(cls.three, "escape.js"))
+        # The page's own vendor/three/ is hidden by the mount: never served, even for a file the mount lacks.
+        os.makedirs(os.path.join(cls.web, "vendor", "three"))
+        with open(os.path.join(cls.web, "vendor", "three", "shadowed.js"), "w") as f:
+            f.write("the page's own copy")
+        cls.server = h.Server(args=["--web-dir", cls.web, "--three-dir", cls.three, "--auth-token", "s3cret"])
 
     @classmethod
     def tearDownClass(cls):
@@ -162,6 +180,21 @@ class StaticFilesTest(unittest.TestCase):
         self.assertEqual(r.status, 200)
         self.assertEqual(r.header("Content-Type"), "text/javascript; charset=utf-8")
         self.assertEqual(r.body, b"export const x = 1;\n")
+
+    def test_three_js_from_its_own_directory(self):
+        r = self.server.request("GET", "/vendor/three/build/three.module.js")
+        self.assertEqual(r.status, 200)
+        self.assertEqual(r.header("Content-Type"), "text/javascript; charset=utf-8")
+        self.assertEqual(r.body, b"export const REVISION = 'test';\n")
+        r = self.server.request("GET", "/vendor/three/examples/jsm/controls/Orbit.js")
+        self.assertEqual(r.status, 200)
+        self.assertIn(b"../../../build/three.module.js", r.body)
+        for path in ["/vendor/three/shadowed.js", "/vendor/three/escape.js", "/vendor/three/../outside.txt",
+                     "/vendor/three/", "/vendor/three/.hidden", "/vendor/three/build/../../outside.txt"]:
+            r = self.server.request("GET", path)
+            self.assertEqual(r.status, 404, path)
+            self.assertNotIn(b"outside the web directory", r.body)
+            self.assertNotIn(b"the page's own copy", r.body)
 
     def test_page_loads_without_token_but_api_needs_it(self):
         self.assertEqual(self.server.request("GET", "/").status, 200)
@@ -183,6 +216,63 @@ class StaticFilesTest(unittest.TestCase):
         self.assertEqual(r.status, 200)
         self.assertEqual(r.json(), h.OPENAPI)
         self.assertEqual(self.server.request("GET", "/healthz").status, 200)
+
+
+THREE_DIR = "/usr/share/javascript/three"
+
+
+@unittest.skipIf(SKIP, SKIP or "")
+@unittest.skipUnless(os.path.isfile(os.path.join(THREE_DIR, "build", "three.module.js")),
+                     "Debian's libjs-three is not installed (scripts/install-deps.sh installs it)")
+class DefaultPageTest(unittest.TestCase):
+    """The page as `wish serve` serves it without web flags: web/src as it is (no build step) and the three.js of
+    Debian's libjs-three. Every module the page imports resolves, and three.js is loaded from one URL only."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = h.Server()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.server.__exit__(None, None, None)
+
+    def fetch(self, url_path):
+        r = self.server.request("GET", url_path)
+        self.assertEqual(r.status, 200, url_path)
+        return r.body.decode()
+
+    def test_every_import_resolves_and_three_is_loaded_once(self):
+        index = self.fetch("/")
+        imports = json.loads(re.search(r'<script type="importmap">(.*?)</script>', index, re.S).group(1))["imports"]
+        self.assertEqual(imports["three"], "./vendor/three/build/three.module.js")
+
+        def resolve(specifier, importer):
+            for key, target in sorted(imports.items(), key=lambda kv: -len(kv[0])):
+                if specifier == key or (key.endswith("/") and specifier.startswith(key)):
+                    return posixpath.normpath("/" + target[len("./"):] + specifier[len(key):])
+            self.assertTrue(specifier.startswith("."), "bare specifier without a mapping: " + specifier)
+            return posixpath.normpath(posixpath.join(posixpath.dirname(importer), specifier))
+
+        three = resolve("three", "/index.html")
+        # Breadth-first over the page's modules; the three.js files are followed as well.
+        seen, pending, three_urls = set(), ["/app.js"], set()
+        while pending:
+            url = pending.pop()
+            if url in seen:
+                continue
+            seen.add(url)
+            text = self.fetch(url)
+            for specifier in re.findall(r'(?:^|\n)\s*(?:import|export)\b[^;]*?from\s*["\']([^"\']+)["\']', text):
+                target = resolve(specifier, url)
+                if target.endswith("/three.module.js"):
+                    three_urls.add(target)
+                pending.append(target)
+        self.assertIn("/viewer.js", seen)
+        self.assertIn("/vendor/three/examples/jsm/controls/OrbitControls.js", seen)
+        # OrbitControls imports three.js by a relative path: it must be the import map's URL, or the browser would
+        # load a second three.js.
+        self.assertEqual(three_urls, {three})
+        self.assertRegex(self.fetch(three), r"REVISION = '\d+'")
 
 
 @unittest.skipIf(SKIP, SKIP or "")

@@ -75,8 +75,11 @@ class ServerZarrTest(unittest.TestCase):
         self.assertEqual(volume["volume"]["dims"], [(n + 1) // 2 for n in sv.DIMS])
         small = self.zyx[::2, ::2, ::2]
         ids, counts = np.unique(small[small > 0], return_counts=True)
-        self.assertEqual({o["label_id"]: o["object"]["voxel_count"] for o in volume["objects"]},
-                         dict(zip(ids.tolist(), counts.tolist())))
+        # Every label of the level is an object, or a speck (under 8 voxels at this level) listed with its reason.
+        kept = {o["label_id"]: o["object"]["voxel_count"] for o in volume["objects"]}
+        specks = {d["label_id"]: d["voxel_count"] for d in volume["volume"]["dropped_objects"]}
+        self.assertEqual({**kept, **specks}, dict(zip(ids.tolist(), counts.tolist())))
+        self.assertTrue(all(d["reason"] == "speck" and d["voxel_count"] < 8 for d in volume["volume"]["dropped_objects"]))
 
     def test_refusals_name_what_was_wrong(self):
         r, body = self.describe(self.zip, "?label_image=golgi")

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
@@ -106,7 +107,7 @@ TEST(ObjectSurface, XiCloseToTheAnalyticEllipsoid) {
   }
 }
 
-TEST(ObjectSurface, TorusIsReportedWithGenusOne) {
+LabelImage torus_image() {
   LabelImage image;
   image.dims = {32, 32, 14};
   image.labels.assign(32 * 32 * 14, 0);
@@ -116,59 +117,72 @@ TEST(ObjectSurface, TorusIsReportedWithGenusOne) {
         const double r = std::hypot(x - 15.5, y - 15.5);
         image.labels[image.index(x, y, z)] = std::hypot(r - 10, z - 6.5) < 4 ? 7 : 0;
       }
+  return image;
+}
+
+TEST(ObjectSurface, ATorusIsCutToGenusZeroAndTheRepairReported) {
+  const LabelImage image = torus_image();
   ObjectOptions by_label;
   by_label.mode = ObjectMode::Labels;
   const ObjectSet set = find_objects(image, by_label);
   ASSERT_EQ(set.objects.size(), 1u);
   EXPECT_EQ(set.objects[0].id, 7u);
   const ObjectSurface s = object_surface(image, set, set.objects[0]);
-  EXPECT_FALSE(s.ok);
-  EXPECT_EQ(s.genus, 1);
-  EXPECT_EQ(s.refusal_code, "genus_nonzero");
-  EXPECT_NE(s.refusal.find("genus 1"), std::string::npos) << s.refusal;
+  EXPECT_EQ(s.genus, 1);  // the voxel object's genus, before the repair
+  ASSERT_TRUE(s.ok) << s.refusal;
+  EXPECT_TRUE(s.repaired);
+  // Cutting the tube (a cross-section, about 50 voxels) is far less than filling the hole (a disc of about 300).
+  EXPECT_STREQ(s.repair.method(), "cut");
+  EXPECT_EQ(s.voxels_meshed, set.objects[0].voxel_count - s.repair.removed);
+  EXPECT_LT(s.repair.volume_change(), 0.05);
+  bool listed = false;
+  for (const auto& r : s.repairs) listed = listed || r == "removed the handles: " + s.repair.describe();
+  EXPECT_TRUE(listed) << (s.repairs.empty() ? "" : s.repairs.back());
+  EXPECT_TRUE(analyze_surface(s.mesh).closed_genus0());
 }
 
-TEST(ObjectSurface, ASmallHandleIsClosedByDefaultAndListedWithItsVolume) {
-  // A ball with a one-voxel tunnel drilled through it: genus 1; a closing of radius 1 fills the tunnel (all but its
-  // mouths: 13 of the 17 drilled voxels, 0.62 % of the object), under the default's 1 %.
-  LabelImage image = voxelise_ellipsoid({8, 8, 8}, {1, 1, 1});
-  const std::int64_t c = image.dims[0] / 2;
-  std::int64_t drilled = 0;
-  for (std::int64_t z = 0; z < image.dims[2]; ++z) {
-    drilled += image.labels[image.index(c, c, z)];
-    image.labels[image.index(c, c, z)] = 0;
-  }
+TEST(ObjectSurface, HandleRepairOffOrOverTheBoundIsARefusalThatSaysWhatTheRepairWouldChange) {
+  const LabelImage image = torus_image();
   const ObjectSet set = find_objects(image);
-  ASSERT_EQ(set.objects.size(), 1u);
-  const ObjectSurface by_default = object_surface(image, set, set.objects[0]);
-  EXPECT_EQ(by_default.genus, 1);  // the voxel object's genus is still reported
-  ASSERT_TRUE(by_default.ok) << by_default.refusal;
-  EXPECT_EQ(by_default.closing_radius, 1);
-  const std::int64_t added = by_default.voxels_meshed - set.objects[0].voxel_count;
-  EXPECT_GT(added, 0);
-  EXPECT_LE(added, drilled);  // the closing fills the tunnel, nothing of the ball's outside
-  EXPECT_NEAR(by_default.closing_share, static_cast<double>(added) / static_cast<double>(set.objects[0].voxel_count), 1e-12);
-  char expected[128];
-  std::snprintf(expected, sizeof expected, "morphological closing of radius 1 (+%lld voxels, volume +%.2f %%)",
-                static_cast<long long>(added), 100 * by_default.closing_share);
-  bool listed = false;
-  for (const auto& r : by_default.repairs)
-    listed = listed || (r.find(expected) != std::string::npos && r.find("default") != std::string::npos);
-  EXPECT_TRUE(listed) << (by_default.repairs.empty() ? "" : by_default.repairs[0]);
-  // Closings off (--no-close-handles): refused, and the refusal says what --close-handles would change.
+  const ObjectSurface repaired = object_surface(image, set, set.objects[0]);
+  ASSERT_TRUE(repaired.ok);
   SurfaceOptions off;
-  off.default_closing_share = 0;
+  off.max_repair_share = 0;  // --no-close-handles
   const ObjectSurface refused = object_surface(image, set, set.objects[0], off);
   EXPECT_FALSE(refused.ok);
   EXPECT_EQ(refused.refusal_code, "genus_nonzero");
+  EXPECT_NE(refused.refusal.find("genus 1"), std::string::npos) << refused.refusal;
   EXPECT_NE(refused.refusal.find("it touches no other object"), std::string::npos) << refused.refusal;
-  std::snprintf(expected, sizeof expected, "--close-handles would close it (closing of radius 1, volume +%.2f %%)",
-                100 * by_default.closing_share);
-  EXPECT_NE(refused.refusal.find(expected), std::string::npos) << refused.refusal;
-  SurfaceOptions on;
-  on.close_handles = true;
-  on.default_closing_share = 0;
-  EXPECT_TRUE(object_surface(image, set, set.objects[0], on).ok);
+  EXPECT_NE(refused.refusal.find("the repair that removes the handles (" + repaired.repair.describe() +
+                                 ") is not applied: handle repair is off (--no-close-handles)"),
+            std::string::npos)
+      << refused.refusal;
+  SurfaceOptions tight;
+  tight.max_repair_share = repaired.repair.volume_change() / 2;
+  const ObjectSurface over = object_surface(image, set, set.objects[0], tight);
+  EXPECT_FALSE(over.ok);
+  EXPECT_NE(over.refusal.find("changes more than the bound of"), std::string::npos) << over.refusal;
+  SurfaceOptions any;
+  any.max_repair_share = std::numeric_limits<double>::infinity();  // --close-handles
+  EXPECT_TRUE(object_surface(image, set, set.objects[0], any).ok);
+}
+
+TEST(ObjectSurface, ASmallTunnelIsFilledByDefaultAndListedWithItsVolume) {
+  // A ball with a one-voxel tunnel drilled through it: genus 1; one plug voxel where the tunnel is narrowest fills it.
+  LabelImage image = voxelise_ellipsoid({8, 8, 8}, {1, 1, 1});
+  const std::int64_t c = image.dims[0] / 2;
+  for (std::int64_t z = 0; z < image.dims[2]; ++z) image.labels[image.index(c, c, z)] = 0;
+  const ObjectSet set = find_objects(image);
+  ASSERT_EQ(set.objects.size(), 1u);
+  const ObjectSurface s = object_surface(image, set, set.objects[0]);
+  EXPECT_EQ(s.genus, 1);
+  ASSERT_TRUE(s.ok) << s.refusal;
+  EXPECT_STREQ(s.repair.method(), "fill");
+  EXPECT_EQ(s.repair.fills, 1);
+  EXPECT_EQ(s.voxels_meshed, set.objects[0].voxel_count + s.repair.added);
+  EXPECT_NEAR(s.repair.volume_change(),
+              static_cast<double>(s.repair.added) / static_cast<double>(set.objects[0].voxel_count), 1e-15);
+  EXPECT_NE(s.repair.describe().find("filled 1 tunnel (+"), std::string::npos) << s.repair.describe();
 }
 
 // n balls of radius r (voxels) on a ring in one mask, neighbours overlapping by `overlap`: cells touching in a loop.
@@ -189,31 +203,20 @@ LabelImage ring_of_balls(int n, double r, double overlap) {
   return image;
 }
 
-TEST(ObjectSurface, TouchingBallsInALoopAreRefusedWithWhatAClosingWouldChange) {
-  // Four balls of radius 8 overlapping by one voxel: genus 1; the closing that fills the loop's hole adds 4.9 %
-  // (bench/close_handles_bench), too much to keep by default.
-  const LabelImage four = ring_of_balls(4, 8, 1);
-  const ObjectSet set = find_objects(four);
-  ASSERT_EQ(set.objects.size(), 1u);
-  const ObjectSurface s = object_surface(four, set, set.objects[0]);
-  EXPECT_FALSE(s.ok);
-  EXPECT_EQ(s.genus, 1);
-  EXPECT_EQ(s.closing_radius, 3);
-  EXPECT_GT(s.closing_share, 0.01);
-  EXPECT_NE(s.refusal.find("--close-handles would close it (closing of radius 3, volume +4."), std::string::npos) << s.refusal;
-  SurfaceOptions on;
-  on.close_handles = true;
-  const ObjectSurface closed = object_surface(four, set, set.objects[0], on);
-  ASSERT_TRUE(closed.ok) << closed.refusal;
-  EXPECT_NEAR(static_cast<double>(closed.voxels_meshed) / static_cast<double>(set.objects[0].voxel_count), 1 + s.closing_share, 1e-12);
-  // Six balls leave a hole no closing up to radius 3 fills: the refusal says --close-handles cannot help.
-  const LabelImage six = ring_of_balls(6, 8, 1);
-  const ObjectSet set6 = find_objects(six);
-  ASSERT_EQ(set6.objects.size(), 1u);
-  const ObjectSurface s6 = object_surface(six, set6, set6.objects[0], on);
-  EXPECT_FALSE(s6.ok);
-  EXPECT_EQ(s6.closing_radius, 0);
-  EXPECT_NE(s6.refusal.find("--close-handles cannot help"), std::string::npos) << s6.refusal;
+TEST(ObjectSurface, TouchingBallsInALoopAreCutAtAContact) {
+  // Balls of radius 8 overlapping by one voxel, in a loop of 4 or 6: genus 1. Cutting one contact removes a disc of
+  // a few voxels; filling the loop's hole would add more (41 and 208 voxels).
+  for (int n : {4, 6}) {
+    const LabelImage ring = ring_of_balls(n, 8, 1);
+    const ObjectSet set = find_objects(ring);
+    ASSERT_EQ(set.objects.size(), 1u);
+    const ObjectSurface s = object_surface(ring, set, set.objects[0]);
+    EXPECT_EQ(s.genus, 1) << n;
+    ASSERT_TRUE(s.ok) << s.refusal;
+    EXPECT_STREQ(s.repair.method(), "cut");
+    EXPECT_LT(s.repair.removed, 40) << n;  // one contact: a disc of radius about 3 voxels
+    EXPECT_LT(s.repair.removed, s.repair.fill_every_tunnel) << n;
+  }
 }
 
 TEST(ObjectSurface, AHandleAgainstAnotherLabelIsReportedWithTheTouchingVoxels) {
@@ -238,7 +241,9 @@ TEST(ObjectSurface, AHandleAgainstAnotherLabelIsReportedWithTheTouchingVoxels) {
   ASSERT_GT(touching, 0);
   const ObjectSet set = find_objects(image);
   ASSERT_EQ(set.objects.size(), 2u);
-  const ObjectSurface s = object_surface(image, set, set.objects[0]);
+  SurfaceOptions off;
+  off.max_repair_share = 0;
+  const ObjectSurface s = object_surface(image, set, set.objects[0], off);
   EXPECT_FALSE(s.ok);
   EXPECT_EQ(s.touching_voxels, touching);
   EXPECT_EQ(s.touching_ids, std::vector<std::uint32_t>{8});
@@ -285,7 +290,12 @@ TEST(LabelObjects, MaskComponentsFiltersAndTruncation) {
   block(8, 10, 2, 4);   // 16 voxels, inside
   block(15, 20, 2, 6);  // 80 voxels, touches x = 19
   image.labels[image.index(7, 7, 7)] = 1;  // diagonal to nothing: its own component of 1 voxel
-  const ObjectSet all = find_objects(image);
+  const ObjectSet by_default = find_objects(image);  // the 1-voxel component is a speck
+  EXPECT_EQ(by_default.objects.size(), 3u);
+  EXPECT_EQ(by_default.dropped_specks, 1);
+  ObjectOptions every;
+  every.min_voxels = 0;
+  const ObjectSet all = find_objects(image, every);
   EXPECT_EQ(all.mode, ObjectMode::Components);
   ASSERT_EQ(all.objects.size(), 4u);
   EXPECT_EQ(all.objects[0].voxel_count, 64);
@@ -297,10 +307,10 @@ TEST(LabelObjects, MaskComponentsFiltersAndTruncation) {
   EXPECT_EQ(kept.objects.size(), 2u);
   EXPECT_EQ(kept.dropped_small, 1);
   EXPECT_EQ(kept.dropped_truncated, 1);
-  options = {};
+  options = every;
   options.label_ids = {1};
   EXPECT_EQ(find_objects(image, options).objects.size(), 1u);
-  options = {};
+  options = every;
   options.max_objects = 3;
   EXPECT_THROW(find_objects(image, options), LimitExceededError);
   // Forced label mode: the mask is one object (value 1) whatever its components.

@@ -3,6 +3,7 @@
 // ndimage.label, no WISH code); every complete endolysosome is meshed closed genus 0 or refused with a reason.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -64,6 +65,46 @@ TEST(SlowUroCell, CompleteObjectCountsMatchAnIndependentCount) {
     EXPECT_EQ(total, expected.at(c.name)) << c.name;
     std::printf("%s: %ld complete objects (independent count %ld)\n", c.name, total, expected.at(c.name));
   }
+}
+
+TEST(SlowUroCell, DefaultObjectsAreEveryLabelOrComponentButTheSpecks) {
+  // Before issue 39 every label (every component of a lyso mask) was an object (min_voxels 0, no fragments). The
+  // default now drops specks and merges fragments: on UroCell it must merge nothing and drop only objects far below
+  // any real organelle (the smallest complete one has 463 voxels), each listed with its reason.
+  WISH_SKIP_WITHOUT_SHARED_DATA();
+  const fs::path root = *wish::testing::shared_data_dir() / "urocell";
+  if (!fs::exists(root)) GTEST_SKIP() << "urocell absent";
+  ObjectOptions before;
+  before.min_voxels = 0;
+  before.fragment_gap = -1;
+  long objects = 0, dropped = 0;
+  for (const auto& c : kClasses)
+    for (const auto& f : wish::testing::files_in(root / c.sub, {".gz"})) {
+      const VolumeReadResult r = read_volume_file(f);
+      const ObjectSet all = find_objects(r.image, before), now = find_objects(r.image);
+      EXPECT_EQ(now.fragments_merged, 0) << f;
+      EXPECT_EQ(now.found, all.found) << f;
+      ASSERT_EQ(now.objects.size() + now.dropped.size(), all.objects.size()) << f;
+      std::size_t k = 0;
+      for (const VolumeObject& o : all.objects) {
+        const bool kept = k < now.objects.size() && now.objects[k].id == o.id;
+        if (kept) {
+          EXPECT_EQ(now.objects[k].voxel_count, o.voxel_count);
+          ++k;
+          continue;
+        }
+        const auto d = std::find_if(now.dropped.begin(), now.dropped.end(),
+                                    [&](const DroppedObject& x) { return x.object.id == o.id; });
+        ASSERT_NE(d, now.dropped.end()) << f << " label " << o.id << " neither kept nor listed as dropped";
+        EXPECT_EQ(d->reason, DropReason::Speck);
+        EXPECT_LT(o.voxel_count, 50) << f << " label " << o.id;
+        std::printf("%s/%s label %u dropped: %s\n", c.sub, f.filename().string().c_str(), o.id, d->why.c_str());
+        ++dropped;
+      }
+      objects += static_cast<long>(all.objects.size());
+    }
+  std::printf("%ld objects before, %ld dropped as specks\n", objects, dropped);
+  EXPECT_LE(dropped, 4);
 }
 
 TEST(SlowUroCell, EveryCompleteEndolysosomeIsMeshedGenusZeroOrRefusedWithAReason) {

@@ -377,3 +377,72 @@ test('Models: a model without a report says so', { skip: missing || false, timeo
   assert.deepEqual(problems, []);
   await page.close();
 });
+
+// A uint8 NIfTI-1 of nx × ny × nz voxels (x fastest), voxel (x, y, z) = label(x, y, z); spacing 1 mm.
+function niftiBytes(nx, ny, nz, label) {
+  const header = Buffer.alloc(352);
+  header.writeInt32LE(348, 0);
+  [3, nx, ny, nz, 1, 1, 1, 1].forEach((v, k) => header.writeInt16LE(v, 40 + 2 * k));
+  header.writeInt16LE(2, 70);  // uint8
+  header.writeInt16LE(8, 72);
+  [1, 1, 1, 1, 1, 1, 1, 1].forEach((v, k) => header.writeFloatLE(v, 76 + 4 * k));
+  header.writeFloatLE(352, 108);
+  header.writeFloatLE(1, 112);
+  header[123] = 2;
+  header.write('n+1\0', 344, 'latin1');
+  const data = Buffer.alloc(nx * ny * nz);
+  for (let z = 0; z < nz; ++z)
+    for (let y = 0; y < ny; ++y)
+      for (let x = 0; x < nx; ++x) data[x + nx * (y + ny * z)] = label(x, y, z);
+  return Buffer.concat([header, data]);
+}
+
+test('Label volume: three slices coloured by class, the legend, a click selects the object', { skip: missing || false, timeout: 300000 }, async () => {
+  const base = await startServer();
+  const { page, problems } = await newPage();
+  await page.goto(base + '/');
+  await page.waitForFunction(() => document.querySelectorAll('#model-select option').length > 0, null, { timeout: 30000 });
+  const inBall = (x, y, z, c, a) => ((x - c[0]) / a[0]) ** 2 + ((y - c[1]) / a[1]) ** 2 + ((z - c[2]) / a[2]) ** 2 <= 1;
+  const bytes = niftiBytes(44, 36, 28, (x, y, z) =>
+    inBall(x, y, z, [10, 11, 12], [6, 6, 6]) ? 1 : inBall(x, y, z, [30, 11, 13], [8, 5, 5]) ? 2
+      : inBall(x, y, z, [20, 26, 14], [9, 5, 4]) ? 3 : x === 2 && y === 33 && z === 2 ? 9 : 0);
+  const path = join(work, 'cells.nii');
+  writeFileSync(path, bytes);
+  await page.setInputFiles('#vol-input', path);
+  await page.waitForFunction(() => window.wishVolume.classMap !== null || !document.querySelector('#vol-error').hidden,
+                             null, { timeout: 240000 });
+  assert.equal(await page.isHidden('#vol-error'), true, await page.textContent('#vol-error'));
+
+  // What the page shows is what the API returns for the same upload.
+  const api = await postRaw(base, '/v1/classify?output=labels', bytes);
+  assert.equal(api.status, 200);
+  const shown = await page.evaluate(() => window.wishVolume.result);
+  assert.deepEqual(shown.objects.map((o) => [o.label_id, o.class_value]), api.body.objects.map((o) => [o.label_id, o.class_value]));
+  assert.deepEqual(shown.volume.dropped_objects.map((o) => [o.label_id, o.reason]), [[9, 'speck']]);
+  const legend = await page.$$eval('#vol-legend li', (lis) => lis.map((li) => Number(li.dataset.value)));
+  assert.deepEqual(legend, api.body.class_map.values.map((v) => v.value));  // K classes, novel, refused
+
+  for (const o of api.body.objects) {
+    const [cx, cy, cz] = o.object.centroid.map(Math.round);
+    // The xy slice through the object's centroid: the pixel there has the colour of its class value.
+    await page.$eval('#vol-z', (s, z) => { s.value = String(z); s.dispatchEvent(new Event('input')); }, cz);
+    const rgb = await page.evaluate(([x, y]) => {
+      const c = document.querySelector('#vol-xy');
+      return [...c.getContext('2d').getImageData(x, c.height - 1 - y, 1, 1).data.slice(0, 3)];
+    }, [cx, cy]);
+    assert.deepEqual(rgb, api.body.class_map.values.find((v) => v.value === o.class_value).rgb, `object ${o.label_id}`);
+    // A click there selects the object's row.
+    await page.locator('#vol-xy').scrollIntoViewIfNeeded();
+    const box = await page.locator('#vol-xy').boundingBox();
+    const size = await page.evaluate(() => [document.querySelector('#vol-xy').width, document.querySelector('#vol-xy').height]);
+    await page.mouse.click(box.x + (cx + 0.5) / size[0] * box.width, box.y + (size[1] - 1 - cy + 0.5) / size[1] * box.height);
+    assert.equal(await page.getAttribute('#vol-table tbody tr.selected', 'data-id'), String(o.label_id));
+    assert.match(await page.textContent('#vol-selected'), new RegExp(`^object ${o.label_id}: `));
+  }
+  // A click on a row moves the slices to the object.
+  await page.click('#vol-table tbody tr[data-id="2"]');
+  assert.equal(await page.$eval('#vol-x', (s) => s.value), String(Math.round(api.body.objects[1].object.centroid[0])));
+  await page.locator('#volume-panel').screenshot({ path: join(shotDir, 'volume-class-map.png') });
+  assert.deepEqual(problems, []);
+  await page.close();
+});

@@ -62,6 +62,15 @@ TEST(TrainingReportJson, CarriesTheReportsFigures) {
   ASSERT_EQ(j["test"]["per_class"].size(), rep.test.per_class.size());
   EXPECT_DOUBLE_EQ(j["test"]["per_class"][0]["f1"].get<double>(), rep.test.per_class[0].f1);
   EXPECT_EQ(j["nested_cv"]["scores"].get<std::vector<double>>(), rep.nested.scores);
+  EXPECT_EQ(j["nested_cv"]["repeats"], rep.nested.repeats);
+  EXPECT_EQ(j["nested_cv"]["outer_folds"], rep.nested.outer_folds);
+  ASSERT_TRUE(rep.nested.interval95.has_value());
+  EXPECT_DOUBLE_EQ(j["nested_cv"]["interval95"][0].get<double>(), rep.nested.interval95->low);
+  EXPECT_DOUBLE_EQ(j["nested_cv"]["interval95"][1].get<double>(), rep.nested.interval95->high);
+  EXPECT_EQ(j["grid"]["method"], "grid");
+  EXPECT_EQ(j["grid"]["reason"], rep.search_reason);
+  EXPECT_EQ(j["grid"]["search_rows"], static_cast<int>(rep.train_indices.size()));
+  EXPECT_FALSE(j["grid"].contains("rungs"));
   // losses per class, by code
   bool found = false;
   for (const auto& c : j["losses"])
@@ -71,6 +80,30 @@ TEST(TrainingReportJson, CarriesTheReportsFigures) {
       found = true;
     }
   EXPECT_TRUE(found) << j["losses"].dump();
+}
+
+TEST(TrainingReportJson, CarriesTheHalvingSchedule) {
+  const auto samples = testing::synthetic_samples(3, 30, 25);
+  auto opts = testing::quick_train_options(6);
+  opts.scale.search = SearchMethod::Halving;
+  opts.scale.halving.min_rows = 24;
+  opts.nested_repeats = 0;
+  const TrainingReport rep = train_classifier(samples, opts).report;
+  const nlohmann::json j = wire::training_report_json(rep);
+  EXPECT_EQ(j["grid"]["method"], "halving");
+  ASSERT_EQ(j["grid"]["rungs"].size(), rep.grid.rungs.size());
+  ASSERT_GE(rep.grid.rungs.size(), 2u);
+  int fits = 0;
+  for (std::size_t r = 0; r < rep.grid.rungs.size(); ++r) {
+    EXPECT_EQ(j["grid"]["rungs"][r]["rows"], rep.grid.rungs[r].rows);
+    EXPECT_EQ(j["grid"]["rungs"][r]["candidates"], rep.grid.rungs[r].candidates);
+    fits += j["grid"]["rungs"][r]["fits"].get<int>();
+  }
+  EXPECT_EQ(fits, j["grid"]["fits"].get<int>());
+  EXPECT_EQ(j["grid"]["cell_rung"][rep.grid.best_c][rep.grid.best_gamma].get<int>(),
+            static_cast<int>(rep.grid.rungs.size()) - 1);
+  EXPECT_EQ(j["grid"]["search_rows"], rep.grid.rungs.back().rows);
+  EXPECT_TRUE(j["nested_cv"]["interval95"].is_null());
 }
 
 TEST(TrainingReportJson, ARunAddsInputComparisonAndSkippedItems) {

@@ -48,7 +48,9 @@ export async function getJson(path) {
 }
 
 // POST one mesh file as the raw body (the service detects the format). onProgress(fraction uploaded, phase).
-export function postMesh(path, file, onProgress) {
+// `accept(status, body)`: whether a non-200 answer is a result (a label volume's 207, or its 4xx that still lists
+// every object) rather than an error.
+export function postMesh(path, file, onProgress, accept = () => false) {
   return withAuth(() => new Promise((resolve, reject) => {
     const xhr = new XMLHttpRequest();
     xhr.open('POST', path);
@@ -57,8 +59,10 @@ export function postMesh(path, file, onProgress) {
     xhr.upload.onload = () => onProgress(1, 'computing');
     xhr.onerror = () => reject(new ApiError(0, 'network_error', 'the service could not be reached'));
     xhr.onload = () => {
-      if (xhr.status === 200) {
-        try { resolve(JSON.parse(xhr.responseText)); } catch (e) { reject(new ApiError(200, 'bad_json', e.message)); }
+      let body = null;
+      try { body = JSON.parse(xhr.responseText); } catch { /* not JSON: an error below */ }
+      if (xhr.status === 200 || (body && accept(xhr.status, body))) {
+        if (body) resolve(body); else reject(new ApiError(xhr.status, 'bad_json', 'the answer is not JSON'));
       } else {
         reject(errorFrom(xhr.status, xhr.responseText));
       }

@@ -482,7 +482,12 @@ function noveltyLine(p) {
     return line;
   }
   line.dataset.novel = String(p.novel);
-  const figures = `score ${fmt(n.score, 3)}, threshold ${fmt(n.threshold, 3)} (the training set's ${fmt(100 * n.quantile, 3)}th percentile), p = ${fmt(n.p_value, 3)}`;
+  // Why (issue 38): the class the shape is most like and how far, in units of that class's own spread.
+  const why = n.nearest_class
+    ? `; nearest class ${n.nearest_class} at ${fmt(n.distance_ratio, 3)}× its spread` +
+      (n.classes?.length > 1 ? ` (${n.classes.slice(1).map((c) => `${c.label} ${fmt(c.ratio, 3)}×`).join(', ')})` : '')
+    : '';
+  const figures = `score ${fmt(n.score, 3)}, threshold ${fmt(n.threshold, 3)} (the training set's ${fmt(100 * n.quantile, 3)}th percentile), p = ${fmt(n.p_value, 3)}${why}`;
   if (p.novel) {
     line.className = 'novel';
     const strong = document.createElement('strong');

@@ -1,7 +1,7 @@
 // One WebGL view of a triangle mesh (three.js): orbit / zoom with the mouse, wireframe toggle, colours per vertex
 // or per face. Renders on demand (after a change), not in a loop: the page stays idle when nothing moves.
 import * as THREE from 'three';
-import { OrbitControls } from 'three/addons/OrbitControls.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 export class MeshViewer {
   constructor(container) {
@@ -10,6 +10,12 @@ export class MeshViewer {
     this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
     this.renderer.setClearColor(0xffffff, 1);
+    // Debian 12's three.js is r111, whose defaults predate the physical light units (the default since r155) and
+    // the encoded output (r152): asked for here, so the light intensities below mean what they mean in current
+    // three.js and the vertex colours (linear values) reach the screen gamma-encoded (2.2, close to sRGB).
+    this.renderer.physicallyCorrectLights = true;
+    this.renderer.gammaOutput = true;
+    this.renderer.gammaFactor = 2.2;
     container.appendChild(this.renderer.domElement);
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);

@@ -57,7 +57,8 @@ def _label_ids(text: str) -> list[int]:
 def _volume_params(args: argparse.Namespace) -> dict[str, Any]:
     return volume_query(spacing=args.spacing, unit=args.unit, objects=args.objects, min_voxels=args.min_voxels,
                         drop_truncated=True if args.drop_truncated else None, labels=args.labels,
-                        threshold=args.threshold, label_image=args.label_image, level=args.level)
+                        threshold=args.threshold, label_image=args.label_image, level=args.level,
+                        fragment_gap=args.fragment_gap, max_repair_share=args.max_repair_share)
 
 
 def _add_server_args(p: argparse.ArgumentParser) -> None:
@@ -99,8 +100,12 @@ def build_parser() -> argparse.ArgumentParser:
     v = c.add_argument_group("label volumes (as `wish mesh-labels`; sent with volumes only)")
     v.add_argument("--spacing", type=_spacing, metavar="X,Y,Z", help="voxel size, overriding the file's")
     v.add_argument("--unit", help="unit of the voxel size (e.g. nm, um)")
-    v.add_argument("--objects", choices=["auto", "labels", "components"], help="object rule (server default: auto)")
-    v.add_argument("--min-voxels", type=int, help="drop objects with fewer voxels")
+    v.add_argument("--objects", help="object rule, one of the server's ObjectMode names (server default: auto)")
+    v.add_argument("--min-voxels", type=int, help="drop objects with fewer voxels (server default: drop specks)")
+    v.add_argument("--fragment-gap", type=int, metavar="N",
+                   help="masks: pieces within N voxels of a dominant object are its fragments (server default 3; -1 never)")
+    v.add_argument("--max-repair-share", type=float, metavar="S",
+                   help="remove handles when that changes at most this share of an object's voxels (server default 0.1)")
     v.add_argument("--threshold", type=float,
                    help="mask with soft edges / probability map: foreground is value >= T (server default: half its maximum)")
     v.add_argument("--drop-truncated", action="store_true", help="drop objects touching the volume border")

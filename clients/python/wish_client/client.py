@@ -14,6 +14,7 @@ reports raise :class:`~wish_client.errors.WishServerError` (with the server's ``
 
 from __future__ import annotations
 
+import base64
 import email.utils
 import http.client
 import io
@@ -42,11 +43,11 @@ MeshInput = Union[str, os.PathLike, bytes, tuple[str, bytes]]
 _FORMATS = ("obj", "ply", "off", "stl")  # the `format` hint of a raw body (proto: components/parameters/format)
 
 #: Label volume files (NIfTI-1, TIFF stacks, OME-Zarr stores as a directory or their zip); the server detects them
-#: from the content. Volume options (proto: components/parameters spacing, unit, objects, min_voxels, drop_truncated,
-#: labels, threshold, label_image, level) mirror ``wish mesh-labels``.
+#: from the content. Volume options (proto: components/parameters spacing, unit, objects, min_voxels, fragment_gap,
+#: max_repair_share, drop_truncated, labels, threshold, label_image, level) mirror ``wish mesh-labels``.
 VOLUME_EXTENSIONS = (".nii", ".nii.gz", ".tif", ".tiff", ".zarr.zip")
-VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "drop_truncated", "labels", "threshold", "label_image",
-                     "level")
+VOLUME_PARAMETERS = ("spacing", "unit", "objects", "min_voxels", "fragment_gap", "max_repair_share", "drop_truncated",
+                     "labels", "threshold", "label_image", "level")
 _ZARR_METADATA = (".zgroup", ".zattrs", ".zarray")
 
 
@@ -86,10 +87,13 @@ def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None 
                  min_voxels: int | None = None, drop_truncated: bool | str | None = None,
                  labels: Sequence[int] | str | None = None, threshold: float | str | None = None,
                  label_image: str | None = None,
-                 level: int | None = None) -> dict[str, Any]:
+                 level: int | None = None, fragment_gap: int | None = None,
+                 max_repair_share: float | None = None) -> dict[str, Any]:
     """The query parameters of a volume upload (``None``: the server's default). ``spacing`` and ``labels`` may
     also be given already encoded ("1,1,2", "3,7"). ``label_image`` and ``level`` choose an OME-Zarr store's label
-    image (labels/NAME; default the first listed) and multiscale level (default 0)."""
+    image (labels/NAME; default the first listed) and multiscale level (default 0). ``min_voxels`` replaces the
+    server's speck rule; ``fragment_gap`` (-1: never) and ``max_repair_share`` (0: never) bound the merging of mask
+    fragments and the removal of handles."""
     q: dict[str, Any] = {}
     if isinstance(spacing, str):
         q["spacing"] = spacing
@@ -117,6 +121,10 @@ def volume_query(spacing: Sequence[float] | str | None = None, unit: str | None 
         q["label_image"] = label_image
     if level is not None:
         q["level"] = int(level)
+    if fragment_gap is not None:
+        q["fragment_gap"] = int(fragment_gap)
+    if max_repair_share is not None:
+        q["max_repair_share"] = repr(float(max_repair_share))
     return q
 
 
@@ -234,6 +242,28 @@ class VolumeResult:
 
     def by_label(self) -> dict[int, VolumeObjectResult]:
         return {o.label_id: o for o in self.objects}
+
+    @property
+    def class_map(self) -> dict[str, Any] | None:
+        """With ``output="labels"`` (:meth:`WishClient.classify_volume`): the class map's name, format, file name and
+        legend (``values``: value, class name, rgb), without its data; ``None`` otherwise."""
+        cm = self.raw.get("class_map")
+        return {k: v for k, v in cm.items() if k != "data"} if isinstance(cm, dict) else None
+
+    def save_class_map(self, path: str | os.PathLike | None = None) -> Path:
+        """Writes the class map the server returned (``output="labels"``) to ``path`` — by default its own file name
+        (``<upload stem>_<model>.nii.gz`` | ``.tif`` | ``.ome.zarr.zip``) in the current directory — and returns the
+        path. An OME-Zarr class map is the zip of a store holding ``labels/<model>``: unzip it into the input store
+        to see it beside the input's labels."""
+        cm = self.raw.get("class_map")
+        if not isinstance(cm, dict) or "data" not in cm:
+            raise WishInputError("the answer has no class map: classify with output=\"labels\"")
+        data = base64.b64decode(cm["data"])
+        if len(data) != int(cm.get("bytes", len(data))):
+            raise WishInputError(f"the class map holds {len(data)} bytes, the answer says {cm.get('bytes')}")
+        target = Path(path) if path is not None else Path(cm["filename"])
+        target.write_bytes(data)
+        return target
 
 
 def _parse_retry_after(value: str | None) -> float | None:
@@ -463,7 +493,7 @@ class WishClient:
                         unit: str | None = None, objects: str | None = None, min_voxels: int | None = None,
                         drop_truncated: bool | None = None, labels: Sequence[int] | None = None,
                         threshold: float | None = None, label_image: str | None = None, level: int | None = None,
-                        **params: Any
+                        output: str | None = None, **params: Any
                         ) -> VolumeResult:
         """Classifies every object of a label volume (NIfTI-1 .nii / .nii.gz, TIFF stack, OME-Zarr store directory
         or its zip) in one request.
@@ -477,9 +507,12 @@ class WishClient:
         the answer's status (200 all classified, 207 some refused, the common 4xx when all were: proto
         VolumeResult); a volume that fails as a whole raises :class:`WishServerError` — unreadable, past the time
         limit, or with no object left after the filters (422 ``no_objects``, its counts in ``details``).
+        ``output="labels"`` also returns the class map in the upload's format (:meth:`VolumeResult.save_class_map`).
         """
         query = {"model": model, **volume_query(spacing, unit, objects, min_voxels, drop_truncated, labels, threshold,
                                                 label_image, level), **params}
+        if output is not None:
+            query["output"] = output
         return self._post_volume("/v1/classify", volume, query, classify=True)
 
     def describe_volume(self, volume: MeshInput, *, spacing: Sequence[float] | None = None, unit: str | None = None,
