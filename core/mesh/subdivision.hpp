@@ -1,7 +1,7 @@
 #pragma once
 // Midpoint subdivision of a triangle mesh (every triangle split into four at its edge midpoints; the new vertices
 // stay ON the old triangles): the same surface, four times as many faces per level. For the metamorphic tests of the
-// descriptor (issue 37, docs/design/descriptor-invariances.md): a shape described at 252 and at 4,002 vertices of
+// descriptor (issue 37; what a descriptor must not depend on): a shape at 252 and at 4,002 vertices of
 // identical geometry must give the same ξ.
 
 #include "core/mesh/mesh.hpp"
