@@ -2,6 +2,7 @@
 // method alone, no fallback), relaxed to the canonical map, fitted, and its log ξ(1..Lmax) compared across the starts;
 // with --subdivide N also against the same surface subdivided N times (identical geometry, 4^N times the faces).
 //   canonical_map_bench FILE... [--starts cmcf,willmore,linear,progressive] [--canonical isometric|none]
+//                       [--mean-damping] [--no-extrapolate] [--max-iterations N] [--budget S]
 //                       [--lmax 10] [--nu 1e-1] [--sampling vertices|surface] [--subdivide N]
 // Prints one row per mesh and start: the start's method and status, the relaxation's steps, stop, energy and CPU
 // seconds, and max_l |Δ log ξ(l)| against the first start that mapped (and against the original resolution).
@@ -68,9 +69,13 @@ Described describe(const Mesh& mesh, MapMethod method, const SphericalMapOptions
   d.ok = true;
   d.log_xi = sh.invariants.tail(fit.lmax).array().log();
   const CanonicalMapReport& c = map.canonical;
-  std::printf(" steps %3d halvings %3d %-18s E %9.4f -> %9.4f  canon %6.3f s  map %6.3f s  areaD %7.3f Kp99 %7.3f",
-              c.iterations, c.halvings, stop_name(c.stop), c.energy_start, c.energy, c.seconds, map_cpu,
+  std::printf(" steps %3d (+%3d) halvings %3d %-18s E %9.4f -> %9.4f  canon %6.3f s  map %6.3f s  areaD %7.3f Kp99 %7.3f",
+              c.iterations, c.extrapolations, c.halvings, stop_name(c.stop), c.energy_start, c.energy, c.seconds, map_cpu,
               map.quality.area_distortion, map.quality.conformal_p99);
+  if (map.area_correction.method != AreaCorrection::None)
+    std::printf("  dem %d steps, areaD %.3f -> %.3f, %.2f s%s", map.area_correction.iterations,
+                map.area_correction.before.area_distortion, map.area_correction.after.area_distortion,
+                map.area_correction.seconds, map.area_correction.converged ? "" : " (not converged)");
   return d;
 }
 
@@ -81,6 +86,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> starts{"cmcf", "willmore", "linear", "progressive"};
   std::string canonical = "isometric";
   std::string area_correction = "none";
+  bool mean_damping = false, no_extrapolate = false;
+  int max_iterations = 0;
+  double budget = -1;
   ShFitOptions fit;
   fit.lmax = 10;
   fit.regularization = 1e-1;
@@ -91,6 +99,10 @@ int main(int argc, char** argv) {
     if (a == "--starts") starts = split(next());
     else if (a == "--canonical") canonical = next();
     else if (a == "--area-correction") area_correction = next();
+    else if (a == "--mean-damping") mean_damping = true;
+    else if (a == "--no-extrapolate") no_extrapolate = true;
+    else if (a == "--max-iterations") max_iterations = std::stoi(next());
+    else if (a == "--budget") budget = std::stod(next());
     else if (a == "--lmax") fit.lmax = std::stoi(next());
     else if (a == "--nu") fit.regularization = std::stod(next());
     else if (a == "--subdivide") subdivide = std::stoi(next());
@@ -99,6 +111,10 @@ int main(int argc, char** argv) {
   }
   SphericalMapOptions base;
   base.canonical.method = canonical == "none" ? CanonicalMap::None : CanonicalMap::Isometric;
+  base.canonical.scaled_damping = !mean_damping;
+  base.canonical.extrapolate = !no_extrapolate;
+  if (max_iterations > 0) base.canonical.max_iterations = max_iterations;
+  if (budget >= 0) base.canonical.budget_seconds = budget;
   base.area_correction.method = area_correction_from_name(area_correction);
   for (const std::string& file : files) {
     try {

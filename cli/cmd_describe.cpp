@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"
+#include "core/classify/default_recipe.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
@@ -147,13 +149,21 @@ void print_table(const nlohmann::json& r, std::ostream& os) {
      << t["total"].get<double>() << "\n";
 }
 
-// Why describe's defaults are not train's (docs/accuracy.md, "Decision"), said where a user looks for it.
-constexpr const char* kDefaultsFooter =
-    "Defaults: the paper's map and the SH fit's own settings (willmore, nu 1e-5, Lmax 15): the smallest fit error and\n"
-    "the most faithful reconstruction (tests/sh/sh_fit_test.cpp). `wish train` (and the bundled model) default to\n"
-    "cmcf, nu 1e-1, Lmax 10 instead: the recipe chosen by classification accuracy (docs/accuracy.md; nested CV on\n"
-    "UroCell 95.2 % against 93.1 % at nu 1e-5), whose smoother xi classify better but fit the surface less closely.\n"
-    "To describe as a model trained with the defaults does: --method cmcf --lmax 10 --regularization 1e-1.";
+// Why describe's defaults are not train's (docs/accuracy.md, "Decision"), said where a user looks for it; train's
+// recipe is read from core (default_recipe.hpp), never restated here.
+std::string defaults_footer() {
+  const DescriptorRecipe train = default_training_recipe();
+  std::ostringstream out;
+  out << "Defaults: the paper's map and the SH fit's own settings (willmore, nu 1e-5, Lmax 15): the smallest fit error and\n"
+         "the most faithful reconstruction (tests/sh/sh_fit_test.cpp). `wish train` defaults to the recipe chosen by\n"
+         "classification accuracy instead ("
+      << recipe_summary(train)
+      << "; docs/accuracy.md), whose smoother xi classify better but fit the surface less closely.\n"
+         "To describe as a model trained with the defaults does: --method "
+      << to_string(train.map.method) << " --canonical " << to_string(train.map.canonical.method) << " --lmax "
+      << train.sh.lmax << " --regularization " << train.sh.regularization << ".";
+  return out.str();
+}
 
 CommandRunner setup_describe(CLI::App& sub) {
   auto options = std::make_shared<DescribeOptions>();
@@ -189,7 +199,7 @@ CommandRunner setup_describe(CLI::App& sub) {
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   sub.add_flag("--quiet", options->quiet, "No progress line for label volumes");
   add_volume_options(sub, options->volume);
-  sub.footer(kDefaultsFooter);
+  sub.footer(defaults_footer());
   return [options]() {
     check_overrides(options->overrides, "--steps");
     PipelineOptions po;

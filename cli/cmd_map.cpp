@@ -15,6 +15,7 @@
 #include "core/common/stage_profile.hpp"
 #include "core/io/mesh_io.hpp"
 #include "core/pipeline/describe_overrides.hpp"
+#include "core/pipeline/pipeline.hpp"
 #include "core/spherical_map/map_types.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "wire/wire_json.hpp"
@@ -80,7 +81,7 @@ CommandRunner setup_map(CLI::App& sub) {
   auto args = std::make_shared<MapArgs>();
   sub.add_option("file", args->input, "Input mesh (OBJ, PLY, OFF, STL): closed, genus 0")->required();
   sub.add_option("--out,-o", args->output, "Sphere mesh to write (format from the extension)")->required();
-  const SphericalMapOptions defaults;
+  const SphericalMapOptions defaults = PipelineOptions{}.map;  // the pipeline's, as `wish describe` shows
   add_enum_option(sub, "--method", args->overrides.method, kMapMethodNames, defaults.method, "Spherical map method");
   sub.add_option("--steps", args->overrides.max_flow_steps,
                  "Step cap of the chosen method's flow (default: willmore " + std::to_string(defaults.willmore.max_steps) +
@@ -98,18 +99,17 @@ CommandRunner setup_map(CLI::App& sub) {
       const profile::ScopedStage stage("io.read");
       return read_mesh_file(args->input);
     }();
-    const PreparedMesh prepared = [&] {
-      const profile::ScopedStage stage("prepare");
-      return prepare_for_mapping(read.mesh);
-    }();
-    require_mappable(prepared);
-    SphericalMapOptions options;
+    // The pipeline's own first stages (map_mesh): the repairs, checks and chain `wish describe` runs, so that both
+    // commands end on the same attempt for every mesh (issue 37).
+    PipelineOptions options;
     apply_overrides(args->overrides, options);
-    options.solver = args->solver == "eigen" ? LinearSolverKind::EigenSimplicial : LinearSolverKind::Cholmod;
-    options.fallback = !args->no_fallback;
-    options.willmore.filtered = args->filtered;
+    options.map.solver = args->solver == "eigen" ? LinearSolverKind::EigenSimplicial : LinearSolverKind::Cholmod;
+    options.map.fallback = !args->no_fallback;
+    options.map.willmore.filtered = args->filtered;
     const Deadline deadline = args->timeout > 0 ? Deadline::after(std::chrono::duration<double>(args->timeout)) : Deadline{};
-    const SphericalMapResult result = compute_spherical_map(prepared.mesh, options, deadline);
+    const MappedMesh mapped = map_mesh(read.mesh, options, deadline);
+    const PreparedMesh& prepared = mapped.prepared;
+    const SphericalMapResult& result = mapped.map;
     if (result.ok()) {
       Mesh sphere;
       sphere.vertices = result.sphere;

@@ -30,6 +30,7 @@
 #include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "core/classify/dataset.hpp"
+#include "core/classify/default_recipe.hpp"
 #include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/laplace_spectrum.hpp"
@@ -50,19 +51,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+const DescriptorRecipe kDefaults = default_training_recipe();
+
 struct TrainCliOptions {
   std::string input, labels, out = "model.json", report, heatmap, save_descriptors, name = "wish-svm";
-  // The defaults are the descriptor recipe chosen by accuracy (issue 12; docs/accuracy.md) and used for the bundled
-  // model (scripts/make-default-model.sh): cMCF map, Lmax 10, log of the energies, nu = 1e-1 in the paper's units
-  // (penalty 1e-5 l^2 (l+1)^2 at unit-sum weights). That nu is 10^4 x the SH fit's own default (which `wish describe`
-  // keeps, for fit fidelity and reconstruction): it damps degrees above ~9, and the smoother xi classify better —
-  // nested CV, cMCF, Lmax 10, log: UroCell 95.2 % against 93.1 % at 1e-5 (189 organelles), demo set 90.9 % against
-  // 90.2 % (docs/accuracy.md).
-  int lmax = 10;
-  FeatureFamily features = FeatureFamily::Invariants;
-  ScaleNormalization scale = ScaleNormalization::None;
+  // The recipe's defaults are core's one value (core/classify/default_recipe.hpp: what they are and why).
+  int lmax = kDefaults.sh.lmax;
+  FeatureFamily features = kDefaults.features.family;
+  ScaleNormalization scale = kDefaults.features.scale;
   int spectrum_count = kDefaultSpectrumCount;
-  bool log = true, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
+  bool log = kDefaults.features.log_transform, global_scale_free = false, refit_all = false, no_compare = false, quiet = false;
   bool early_stop = true;
   SearchMethod search = SearchMethod::Auto;
   double novelty_quantile = 0.99;
@@ -70,18 +68,15 @@ struct TrainCliOptions {
   NoveltyRule novelty_rule = NoveltyRule::NearestClass;
   std::uint64_t seed = 42;
   int jobs = 0;
-  MapMethod method = MapMethod::Cmcf;
-  FitWeighting weights = FitWeighting::Area;
+  MapMethod method = kDefaults.map.method;
+  FitWeighting weights = kDefaults.sh.weighting;
   FitSolver solver = FitSolver::Direct;
   std::string area_correction = "none";
-  // The canonical map is opt-in (--canonical isometric): measured (docs/accuracy.md "Issue 37") it keeps every
-  // UroCell raw_mc mesh and makes ξ start-independent, but within its 6 s budget it does not converge on the
-  // generated coils, octopi and quadrupeds, which a canonical recipe then refuses (30 of 40 lost, against 18).
-  std::string canonical = to_string(CanonicalMapOptions{}.method);
-  std::string sampling = to_string(ShFitOptions{}.sampling);
-  double regularization = 1e-1;
+  std::string canonical = to_string(kDefaults.map.canonical.method);
+  std::string sampling = to_string(kDefaults.sh.sampling);
+  double regularization = kDefaults.sh.regularization;
   double test_fraction = 0.2;
-  OffRecipePolicy off_recipe = OffRecipePolicy::Refuse;
+  OffRecipePolicy off_recipe = kDefaults.off_recipe;
   bool no_fallback = false, allow_losses = false;
   double max_class_loss = 0.1;
   int grid_splits = 10, nested_repeats = 2, nested_folds = 5;
@@ -102,7 +97,7 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_option("--labels", o->labels, "Manifest CSV (path,label) giving the labels of a descriptor CSV");
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
       ->check(CLI::Range(1, 100))->capture_default_str();
-  add_enum_option(sub, "--features", o->features, kFeatureFamilyNames, "Feature family");
+  CLI::Option* features_option = add_enum_option(sub, "--features", o->features, kFeatureFamilyNames, "Feature family");
   sub.add_option("--spectrum-count", o->spectrum_count,
                  "Families with the spectrum: how many Laplace-Beltrami eigenvalues (ShapeDNA)")
       ->check(CLI::Range(1, kMaxSpectrumCount))->capture_default_str();
@@ -172,13 +167,14 @@ CommandRunner setup_train(CLI::App& sub) {
   sub.add_flag("--quiet", o->quiet, "Only failures on stderr");
   add_volume_options(sub, o->volume);
   sub.footer(
-      "Defaults: the recipe chosen by classification accuracy (docs/accuracy.md, also the bundled model's): cmcf,\n"
-      "nu 1e-1, Lmax 10, log on (--canonical isometric: the canonical map, opt-in; docs/accuracy.md \"Issue 37\"). `wish describe` defaults to willmore, nu 1e-5, Lmax 15 instead (the paper's map\n"
-      "and the SH fit's own settings: the closest fit and reconstruction); the smoother xi of nu 1e-1 classify\n"
-      "better (nested CV on UroCell 95.2 % against 93.1 % at nu 1e-5, cMCF 93.1-95.2 % against Willmore's\n"
-      "89.4-92.6 %, Lmax 15 gains at most 0.3 points over 10). A model records its recipe: classify uses it.\n"
+      "Defaults: the recipe chosen by classification accuracy and by the meshes it keeps (docs/accuracy.md,\n"
+      "core/classify/default_recipe.hpp): " + recipe_summary(kDefaults) + ".\n"
+      "With --canonical isometric every mesh the chain maps is kept: its descriptor is computed on the canonical map\n"
+      "whichever attempt found the bijective start (a relaxation stopped by its budget is kept, reported as\n"
+      "canonical_converged false). `wish describe` defaults to the paper's map and fit (willmore, nu 1e-5, Lmax 15)\n"
+      "instead. A model records its recipe: classify uses it.\n"
       "\n" + training_scale_help(ScalePolicy{}));
-  return [o]() {
+  return [o, features_option]() {
     DescriptorRecipe recipe;
     recipe.map.method = o->method;
     recipe.map.fallback = !o->no_fallback;
@@ -203,7 +199,7 @@ CommandRunner setup_train(CLI::App& sub) {
     std::vector<TrainingSample> samples;
     std::vector<MeshLoss> failures;
     std::vector<std::string> unlabelled;
-    bool have_global = true;
+    bool have_global = true, described_here = true;  // false: the samples come from a descriptor CSV
     const fs::path input = o->input;
     auto describe = [&](const std::vector<DatasetItem>& items) {
       DescribeSetOptions d;
@@ -235,6 +231,7 @@ CommandRunner setup_train(CLI::App& sub) {
         samples = std::move(table.samples);
         unlabelled = table.unlabelled;
         have_global = table.has_global;
+        described_here = false;
         recipe.sh.lmax = table.lmax;  // the descriptors were fitted up to this Lmax: the model must say so
         if (o->lmax > table.lmax)
           throw InvalidInputError("training_data", "--lmax " + std::to_string(o->lmax) + " exceeds the CSV's xi_" +
@@ -282,6 +279,15 @@ CommandRunner setup_train(CLI::App& sub) {
     t.refit_on_all = o->refit_all;
     t.seed = o->seed;
     if (!o->quiet) t.progress = [](const std::string& line) { std::cerr << "  " << line << "\n"; };
+    if (!have_global && features_option->count() == 0 && t.recipe.needs_global_features()) {
+      // A descriptor CSV of xi alone (written before --save-descriptors kept the global columns): the default family
+      // cannot be built from it, the paper's can. Said, not silent; an explicit --features still fails below.
+      std::cerr << "note: " << input.string() << " has no global descriptors (g_* columns): training with features "
+                << to_string(FeatureFamily::Invariants) << " instead of the default " << to_string(o->features) << "\n";
+      o->features = FeatureFamily::Invariants;
+      t.recipe.features.family = FeatureFamily::Invariants;
+      recipe.features.family = FeatureFamily::Invariants;
+    }
     const bool needs_global = t.recipe.needs_global_features();
     if (needs_global && !have_global)
       throw InvalidInputError("training_data", "--features " + std::string(to_string(o->features)) + (t.recipe.features.scale == ScaleNormalization::ByArea ? " / --scale area" : "") +
@@ -289,6 +295,13 @@ CommandRunner setup_train(CLI::App& sub) {
                                                    "CSV written by --save-descriptors");
 
     std::cerr << "training on " << samples.size() << " samples, features " << to_string(o->features) << "\n";
+    if (described_here && recipe.map.canonical.method != CanonicalMap::None) {
+      const auto unconverged = std::count_if(samples.begin(), samples.end(),
+                                             [](const TrainingSample& s) { return s.canonical_unconverged; });
+      std::cout << "canonical map: " << samples.size() - static_cast<std::size_t>(unconverged) << " of "
+                << samples.size() << " relaxations converged; " << unconverged
+                << " stopped by their budget or step cap (kept: the recipe's descriptor, reported per mesh)\n";
+    }
     const TrainingResult result = train_classifier(samples, t);
     result.model.save(o->out);
 

@@ -15,20 +15,16 @@ trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$out"
 "$wish" demo-data --out "$tmp/demo" --per-class "$per_class" --seed 1 --quiet
 # A fixed timestamp keeps the file reproducible (same inputs, same bytes).
-# The descriptor recipe is spelled out (issue 12), chosen by bench/descriptor_accuracy_bench on this demo set:
-# cMCF maps (every mesh mapped by cMCF alone; xi alone 90.2 % nested CV against 87.0 % for the global features and
-# 81.4 % for Willmore maps at the same settings), Lmax 10, log, nu = 1e-1 (paper units; the best xi on the demo set
-# and on the UroCell organelles, docs/accuracy.md); off-recipe maps are refused and any class losing more than 10 %
-# of its meshes stops the run. Re-checked in issue 25 on every labelled set (demo, UroCell meshes, raw marching-cubes
-# UroCell, generated hard shapes; docs/accuracy.md run I, bench/accuracy_table.sh): cMCF keeps the best xi alone
-# wherever the methods map the same meshes, so the recipe is kept.
+# The descriptor recipe is NOT restated here (issue 37 item 5): it is `wish train`'s default, one value in core
+# (core/classify/default_recipe.hpp, where it is and why): cMCF chain, the canonical isometric map from whichever
+# attempt found the bijective start (no mesh lost to its path), Lmax 10, log, nu = 1e-1, features combined (xi and
+# the global descriptors); off-recipe maps refused, and a class losing more than 10 % of its meshes stops the run.
+# Chosen by nested CV on every labelled set (docs/accuracy.md "Issue 37, second pass").
 # Novelty calibration cross-validated (--novelty-folds 10, model format 6): with about 10 training samples per class,
 # leave-one-out scores flagged 9 of 72 held-out known members leaving each class out in turn, 10-fold ones 3 of 72
 # (bench/novelty_open_set.sh on demo-descriptors.csv; docs/benchmarks.md "Novelty").
 SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-1704067200} "$wish" train "$tmp/demo" \
-  --method cmcf --lmax 10 --regularization 1e-1 --weights area --log --scale none --features invariants \
-  --novelty-folds 10 \
-  --off-recipe refuse --max-class-loss 0.1 --seed 42 --jobs "$jobs" --quiet \
+  --novelty-folds 10 --seed 42 --jobs "$jobs" --quiet \
   --name wish-default-synthetic \
   --out "$out/default.json" --report "$out/default-report.json" --heatmap "$out/default-grid.svg" \
   --save-descriptors "$tmp/descriptors.csv"

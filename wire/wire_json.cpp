@@ -320,6 +320,11 @@ nlohmann::json prediction_json(const Prediction& p, const std::string& model_nam
     out["recipe_match"] = recipe->match;
     out["method_used"] = to_string(recipe->method_used);
     out["recipe_method"] = to_string(recipe->recipe_method);
+    if (recipe->canonical != CanonicalMap::None) {
+      // The path-dependence that remains (issue 37): a relaxation stopped by its budget is still the recipe's map.
+      out["canonical_converged"] = recipe->canonical_converged;
+      out["canonical_excess"] = json_number(recipe->canonical_excess);
+    }
   }
   return out;
 }

@@ -1,6 +1,7 @@
 #include "core/classify/descriptor_recipe.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/classify/descriptor_recipe_codec.hpp"
 
@@ -46,10 +47,15 @@ RecipeConformance check_recipe(const DescriptorRecipe& recipe, const SphericalMa
   c.attempts = static_cast<int>(map.attempts.size());
   c.canonical = recipe.map.canonical.method;
   c.canonical_stop = map.canonical.stop;
+  c.canonical_converged = map.canonical.converged;
+  c.canonical_excess = map.canonical.energy - recipe.map.canonical.energy.minimum();
   if (recipe.map.canonical.method != CanonicalMap::None)
-    // One definition for every map (issue 37): the descriptor is computed on the canonical map, whichever attempt
-    // of the chain gave its start; it matches when the relaxation reached that map (converged), whatever the path.
-    c.match = map.canonical.method == recipe.map.canonical.method && map.canonical.converged;
+    // One definition for every map (issue 37): the descriptor is computed on the canonical relaxation of the chain's
+    // bijective map, whichever attempt of the chain gave its start. It is the recipe's descriptor when the
+    // relaxation ran from a valid start (no mesh is lost to its path); whether it reached the minimiser within its
+    // budget is reported beside it (canonical_converged, canonical_excess): the path-dependence that remains.
+    c.match = map.canonical.method == recipe.map.canonical.method && map.canonical.stop != CanonicalMapStop::NotRun &&
+              map.canonical.stop != CanonicalMapStop::Reverted && std::isfinite(map.canonical.energy);
   else
     c.match = map.method_used == recipe.map.method;
   return c;

@@ -113,11 +113,13 @@ int model_steps(const DescriptorRecipe& recipe);
 
 // How one computed descriptor relates to a recipe.
 struct RecipeConformance {
-  // The descriptor is the recipe's: for a canonical recipe, the canonical map was reached (whatever attempt gave its
-  // start); otherwise the map was made by the recipe's method.
+  // The descriptor is the recipe's: for a canonical recipe, the canonical relaxation ran from the chain's map
+  // (whatever attempt gave its start; converged or not, see below); otherwise the map was made by the recipe's method.
   bool match = true;
   CanonicalMap canonical = CanonicalMap::None;             // the recipe's canonical map
   CanonicalMapStop canonical_stop = CanonicalMapStop::NotRun;  // how this map's relaxation ended
+  bool canonical_converged = false;  // the relaxation reached the minimiser (else: stopped at its budget or cap)
+  double canonical_excess = 0;       // E − min E of the returned map (0: a round, isometric map)
   MapMethod recipe_method = MapMethod::Willmore;
   MapMethod method_used = MapMethod::Willmore;
   int attempts = 1;                       // attempts of the map chain (1: the first attempt gave the map)

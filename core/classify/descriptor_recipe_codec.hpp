@@ -117,7 +117,9 @@ void visit_recipe(Visitor& v, Recipe& d) {
       c.field("absolute_tolerance", o.absolute_tolerance);
       c.field("max_halvings", o.max_halvings);
       c.field("budget_seconds", o.budget_seconds);
-    }, d.map.canonical, CanonicalMapOptions{.method = CanonicalMap::None});
+      c.field("scaled_damping", o.scaled_damping);
+      c.field("extrapolate", o.extrapolate);
+    }, d.map.canonical, CanonicalMapOptions{});  // legacy: method None (the default)
   });
   v.group("sh", [&](Visitor& s) {
     s.field("lmax", d.sh.lmax);

@@ -25,6 +25,9 @@ struct TrainingSample {
   std::string label;  // class name
   ShapeFeatures features;
   bool off_recipe = false;  // its map came from another method than the recipe's (kept by accept_flagged)
+  // A canonical recipe: the relaxation to the canonical map stopped at its budget or step cap (kept: the recipe's
+  // descriptor; the path-dependence that remains, issue 37).
+  bool canonical_unconverged = false;
 };
 
 struct TrainOptions {

@@ -40,26 +40,35 @@ void require_verified_map(const SphericalMapResult& map) {
 
 }  // namespace
 
-PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline) {
-  const auto start = Clock::now();
-  PipelineResult result;
-
+MappedMesh map_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline) {
+  MappedMesh out;
   auto t = Clock::now();
   {
     const profile::ScopedStage stage("prepare");
-    result.prepared = prepare_for_mapping(std::move(mesh), options.repair);
+    out.prepared = prepare_for_mapping(std::move(mesh), options.repair);
   }
-  require_mappable(result.prepared);
-  result.timings.validate = seconds_since(t);
+  require_mappable(out.prepared);
+  out.validate_seconds = seconds_since(t);
   deadline.check("validation");
 
   t = Clock::now();
-  result.map = compute_spherical_map(result.prepared.mesh, options.map, deadline);
-  result.timings.map = seconds_since(t);
+  out.map = compute_spherical_map(out.prepared.mesh, options.map, deadline);
+  out.map_seconds = seconds_since(t);
+  return out;
+}
+
+PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline) {
+  const auto start = Clock::now();
+  PipelineResult result;
+  MappedMesh mapped = map_mesh(std::move(mesh), options, deadline);
+  result.prepared = std::move(mapped.prepared);
+  result.map = std::move(mapped.map);
+  result.timings.validate = mapped.validate_seconds;
+  result.timings.map = mapped.map_seconds;
   require_verified_map(result.map);
   deadline.check("spherical map");
 
-  t = Clock::now();
+  const auto t = Clock::now();
   const profile::ScopedStage fit_stage("sh.fit+invariants");
   result.sh = fit_spherical_harmonics(result.prepared.mesh, result.map.sphere, options.sh);
   result.features.invariants = result.sh.invariants;

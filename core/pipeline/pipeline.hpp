@@ -52,6 +52,17 @@ PipelineResult describe_mesh_bytes(std::string_view bytes, const PipelineOptions
                                    const Deadline& deadline = {});
 PipelineResult describe_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline = {});
 
+// The first stages of describe_mesh — repair/validation and the sphere map — with the same options and checks, so
+// that `wish map` and `wish describe` (and every other caller) end on the same chain attempt for every mesh (issue
+// 37: one place decides the chain). Throws as describe_mesh for an unmappable input; a map that failed
+// verification is returned (map.ok() false), not thrown: the caller decides (describe_mesh refuses it).
+struct MappedMesh {
+  PreparedMesh prepared;  // reports before/after repair, repairs; prepared.mesh was mapped
+  SphericalMapResult map;
+  double validate_seconds = 0, map_seconds = 0;
+};
+MappedMesh map_mesh(Mesh mesh, const PipelineOptions& options, const Deadline& deadline = {});
+
 // The pipeline options that compute a descriptor as `recipe` says (map, fit, global features when needed);
 // reading, repair limits and reconstruction are taken from `base`.
 PipelineOptions options_for_recipe(const DescriptorRecipe& recipe, PipelineOptions base = {});

@@ -28,6 +28,7 @@ TrainingSample sample_of(const PipelineResult& r, const DescriptorRecipe& recipe
   enforce_recipe_policy(recipe, conformance, "being trained");
   TrainingSample s;
   s.off_recipe = !conformance.match;
+  s.canonical_unconverged = conformance.canonical != CanonicalMap::None && !conformance.canonical_converged;
   s.id = id;
   s.label = label;
   s.features = r.features;
@@ -44,6 +45,9 @@ ItemDescription describe_mesh_item(const DatasetItem& item, const std::string& b
   std::ostringstream st;
   st << "ok (" << std::fixed << std::setprecision(2) << r.timings.total << " s, " << to_string(r.map.method_used) << ")";
   if (d.samples.back().off_recipe) st << " OFF-RECIPE, kept (accept_flagged)";
+  if (d.samples.back().canonical_unconverged)
+    st << " canonical map not converged (" << to_string(r.map.canonical.stop) << ", E " << std::setprecision(4)
+       << r.map.canonical.energy << "), kept";
   d.status = st.str();
   return d;
 }

@@ -189,9 +189,26 @@ class Relaxation {
       const double mean_diagonal = hessian_.diagonal().mean();
       double shift = damping * mean_diagonal;
       bool factored = false;
-      for (int attempt = 0; attempt < 6 && !factored; ++attempt) {
-        factored = cholesky.factorize(hessian_, shift);
-        if (!factored) shift *= 100;
+      if (options_.scaled_damping) {
+        // Marquardt's scaling: the shift of unknown i is damping × H_ii (floored at 1e-12 of the mean, so that a
+        // vertex of a flat patch still has a definite row). A shift relative to the MEAN diagonal is dominated by the
+        // few area-starved faces of a progressive start (H_ii up to 1e20 × the rest) and freezes every other vertex.
+        const Eigen::VectorXd diagonal = hessian_.diagonal();
+        const double floor = 1e-12 * mean_diagonal;
+        double lambda = damping;
+        for (int attempt = 0; attempt < 6 && !factored; ++attempt) {
+          for (Eigen::Index i = 0; i < diagonal.size(); ++i)
+            hessian_.valuePtr()[diagonal_slots_[static_cast<size_t>(i)]] =
+                diagonal(i) + lambda * std::max(diagonal(i), floor);
+          factored = cholesky.factorize(hessian_, 0.0);
+          if (!factored) lambda *= 100;
+        }
+        shift = lambda * mean_diagonal;
+      } else {
+        for (int attempt = 0; attempt < 6 && !factored; ++attempt) {
+          factored = cholesky.factorize(hessian_, shift);
+          if (!factored) shift *= 100;
+        }
       }
       if (!factored) {
         report.stop = CanonicalMapStop::SolverFailed;
@@ -227,6 +244,22 @@ class Relaxation {
           e = e_trial;
           accepted = true;
           alpha_taken_full = h == 0;
+          // Newton underestimates the step on a barrier (on ψ = σ⁻² a full step grows σ by only 4/3): after a full
+          // step, keep doubling along the same direction while the energy still falls (and the turn cap holds).
+          if (options_.extrapolate && alpha_taken_full) {
+            const Eigen::MatrixX3d base = u;
+            for (double beta = 2 * alpha; beta * largest <= 0.25; beta *= 2) {
+              for (Eigen::Index i = 0; i < u.rows(); ++i)
+                trial.row(i) = (base.row(i).transpose() + beta * bases[static_cast<size_t>(i)] * step.segment<2>(2 * i))
+                                   .normalized()
+                                   .transpose();
+              const double e_more = energy(trial);
+              if (!(e_more < e)) break;
+              u.swap(trial);
+              e = e_more;
+              ++report.extrapolations;
+            }
+          }
           break;
         }
         ++report.halvings;
@@ -275,6 +308,10 @@ class Relaxation {
               slots_[static_cast<size_t>(f) * 36 + static_cast<size_t>(((a * 3 + b) * 2 + r) * 2 + c)] =
                   static_cast<int>(pos - inner);
             }
+    diagonal_slots_.resize(static_cast<size_t>(2 * vertex_count));
+    for (Eigen::Index i = 0; i < 2 * vertex_count; ++i)
+      diagonal_slots_[static_cast<size_t>(i)] =
+          static_cast<int>(std::lower_bound(inner + outer[i], inner + outer[i + 1], static_cast<int>(i)) - inner);
   }
 
   // Gradient g (2V, tangent coordinates) and the projected Hessian (values of hessian_) at u.
@@ -322,6 +359,7 @@ class Relaxation {
   const ReferenceTriangles reference_;
   Eigen::SparseMatrix<double> hessian_;
   std::vector<int> slots_;
+  std::vector<int> diagonal_slots_;  // position of H_ii in the compressed values
 };
 
 void check_sizes(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3d& input_vertices) {

@@ -2,7 +2,9 @@
 // than the model's is refused or predicted-with-a-flag as the model's stored policy says.
 #include <gtest/gtest.h>
 
+#include "core/classify/default_recipe.hpp"
 #include "core/classify/descriptor_recipe.hpp"
+#include "core/classify/feature_pipeline.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "tests/classify/classify_test_data.hpp"
@@ -28,6 +30,36 @@ TEST(DescriptorRecipe, ConformanceComparesTheMethodThatMadeTheMap) {
   EXPECT_FALSE(other.match);
   EXPECT_EQ(other.method_used, MapMethod::Cmcf);
   EXPECT_EQ(other.recipe_method, MapMethod::Willmore);
+}
+
+// A canonical recipe (issue 37): whichever attempt made the start, the relaxed map is the recipe's; a relaxation its
+// budget stopped is kept (match) and says so (canonical_converged false, its excess energy); one that could not run
+// (the chain's map was kept as it was) is off-recipe.
+TEST(DescriptorRecipe, ACanonicalRecipeKeepsEveryRelaxedMapAndReportsConvergence) {
+  DescriptorRecipe recipe;
+  recipe.map.method = MapMethod::Cmcf;
+  recipe.map.canonical.method = CanonicalMap::Isometric;
+  auto relaxed = [](MapMethod start, CanonicalMapStop stop, double energy) {
+    SphericalMapResult map = map_made_by(start, 3);
+    map.canonical.method = CanonicalMap::Isometric;
+    map.canonical.stop = stop;
+    map.canonical.converged = stop == CanonicalMapStop::Converged;
+    map.canonical.energy = energy;
+    return map;
+  };
+  const RecipeConformance converged = check_recipe(recipe, relaxed(MapMethod::Progressive, CanonicalMapStop::Converged, 4.5));
+  EXPECT_TRUE(converged.match);
+  EXPECT_TRUE(converged.canonical_converged);
+  EXPECT_NEAR(converged.canonical_excess, 0.5, 1e-12);  // symmetric Dirichlet's minimum is 4
+  const RecipeConformance stopped = check_recipe(recipe, relaxed(MapMethod::Linear, CanonicalMapStop::TimeBudget, 1e6));
+  EXPECT_TRUE(stopped.match);
+  EXPECT_FALSE(stopped.canonical_converged);
+  EXPECT_NO_THROW(enforce_recipe_policy(recipe, stopped, "m"));
+  for (const CanonicalMapStop not_run : {CanonicalMapStop::NotRun, CanonicalMapStop::Reverted}) {
+    const RecipeConformance c = check_recipe(recipe, relaxed(MapMethod::Cmcf, not_run, 10));
+    EXPECT_FALSE(c.match) << to_string(not_run);
+    EXPECT_THROW(enforce_recipe_policy(recipe, c, "m"), WishError);
+  }
 }
 
 TEST(DescriptorRecipe, RefusePolicyThrowsOffRecipeWithBothMethods) {
@@ -104,6 +136,27 @@ TEST(DescriptorRecipe, ClassifyRefusesOrFlagsAnOffRecipeMap) {
   ASSERT_TRUE(flagged.prediction.has_value());
   EXPECT_EQ(flagged.prediction->label, accepting.predict(described.features).label);
   EXPECT_EQ(flagged.prediction->probabilities, accepting.predict(described.features).probabilities);
+}
+
+}  // namespace
+}  // namespace wish
+
+namespace wish {
+namespace {
+
+// The default training recipe is one core value (default_recipe.hpp): valid as it stands, of the current recipe
+// version (it uses the canonical map), and the help texts' summary names what it is.
+TEST(DefaultTrainingRecipe, IsValidCanonicalAndNamedInItsSummary) {
+  const DescriptorRecipe r = default_training_recipe();
+  EXPECT_NO_THROW(validate_recipe(r));
+  EXPECT_EQ(r.map.canonical.method, CanonicalMap::Isometric);
+  EXPECT_EQ(r.features.l_max, r.sh.lmax);
+  EXPECT_EQ(recipe_version_of(r), DescriptorRecipe::kVersion);
+  EXPECT_TRUE(r.needs_global_features());  // combined: xi and the global descriptors
+  const std::string summary = recipe_summary(r);
+  for (const std::string part : {std::string(to_string(r.map.method)), std::string("canonical isometric"),
+                                 "Lmax " + std::to_string(r.sh.lmax), std::string(to_string(r.features.family))})
+    EXPECT_NE(summary.find(part), std::string::npos) << summary << " lacks " << part;
 }
 
 }  // namespace
