@@ -178,10 +178,13 @@ def pipeline_to_model(pipeline: Any, spec: dict[str, Any], *, descriptor: dict[s
              "best_gamma": float(svc._gamma), "grid_score": 0.0, "test_accuracy": 0.0, "nested_cv_mean": 0.0,
              "nested_cv_std": 0.0, "notes": "converted from scikit-learn by clients/convert/sklearn_to_wish.py"}
     train.update(training or {})
+    recipe_version = int(desc.get("recipe_version", 1))
+    if recipe_version >= 4:  # features.spectrum_count exists from recipe version 4 (descriptor_recipe_codec.hpp)
+        spec = {**spec, "spectrum_count": int(spec.get("spectrum_count", 0))}
     payload = {
         "name": name, "version": str(version), "classes": classes,
         # The descriptor recipe (format 2): map + fit + feature pipeline + the policy for off-recipe maps.
-        "recipe": {"recipe_version": int(desc.get("recipe_version", 1)), "map": desc["map"], "sh": desc["sh"], "features": spec,
+        "recipe": {"recipe_version": recipe_version, "map": desc["map"], "sh": desc["sh"], "features": spec,
                    "off_recipe": desc.get("off_recipe", "refuse")},
         "scaler": {"mean": mean.tolist(), "scale": scale.tolist()},
         "svm": {"type": "c_svc", "kernel": "rbf", "C": float(svc.C), "gamma": float(svc._gamma),

@@ -155,7 +155,7 @@ class Relaxation {
     return e;
   }
 
-  CanonicalMapReport run(Eigen::MatrixX3d& u) {
+  CanonicalMapReport run(Eigen::MatrixX3d& u, const Deadline& deadline) {
     const double cpu0 = CpuBudget::thread_cpu_seconds();
     CanonicalMapReport report;
     report.method = CanonicalMap::Isometric;
@@ -176,7 +176,7 @@ class Relaxation {
     report.stop = CanonicalMapStop::IterationCap;
     double damping = kInitialDamping;
     for (int it = 0; it < options_.max_iterations; ++it) {
-      if (budget.expired()) {
+      if (budget.expired() || deadline.expired()) {
         report.stop = CanonicalMapStop::TimeBudget;
         break;
       }
@@ -378,9 +378,9 @@ using canonical_map_detail::check_sizes;
 
 CanonicalMapReport relax_to_canonical_map(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3d& input_vertices,
                                           const Eigen::MatrixX3i& faces, const CanonicalMapOptions& options,
-                                          double min_height) {
+                                          double min_height, const Deadline& deadline) {
   check_sizes(sphere, input_vertices);
-  return Relaxation(input_vertices, faces, options, min_height).run(sphere);
+  return Relaxation(input_vertices, faces, options, min_height).run(sphere, deadline);
 }
 
 double canonical_map_energy(const Eigen::MatrixX3d& sphere, const Eigen::MatrixX3d& input_vertices,

@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 
+#include "core/common/deadline.hpp"
 #include "core/spherical_map/distortion_energy.hpp"
 
 namespace wish {
@@ -95,9 +96,11 @@ namespace spherical {
 // ignores options.method. `min_height`: the map verification's degenerate height (kept by every accepted step).
 // Never throws for numerical trouble: the report says how it ended, and `sphere` is always the last accepted
 // (bijective) map. Throws InvalidInputError when the sizes disagree.
+// `deadline`: the request's hard, wall-clock limit; when it has passed the relaxation stops (TimeBudget) before the
+// next step and the caller's deadline.check() reports the timeout.
 CanonicalMapReport relax_to_canonical_map(Eigen::MatrixX3d& sphere, const Eigen::MatrixX3d& input_vertices,
                                           const Eigen::MatrixX3i& faces, const CanonicalMapOptions& options,
-                                          double min_height);
+                                          double min_height, const Deadline& deadline = {});
 
 // The energy E(u) of a sphere map as defined above (per unit area); +infinity when a face is flipped or below
 // min_height. For tests and reports.

@@ -47,11 +47,12 @@ void correct_area(const Mesh& mesh, const SphericalMapOptions& options, const Ei
 // The canonical map (canonical_map.hpp) relaxed from the chain's Ok map, re-verified: every accepted step is
 // bijective, so a failed re-verification is not expected; if it happens the chain's map is kept (stop Reverted).
 void relax_to_canonical(const Mesh& mesh, const SphericalMapOptions& options, const Eigen::VectorXd& input_mass,
-                        SphericalMapResult& result) {
+                        const Deadline& deadline, SphericalMapResult& result) {
   const profile::ScopedStage stage("map.canonical");
   Eigen::MatrixX3d relaxed = result.sphere;
   CanonicalMapReport report = spherical::relax_to_canonical_map(relaxed, mesh.vertices, mesh.faces, options.canonical,
-                                                                options.verification.degenerate_height);
+                                                                options.verification.degenerate_height, deadline);
+  deadline.check("canonical map");  // a relaxation the request's deadline stopped is a timeout, not an answer
   MapQuality quality = spherical::measure_map(mesh.vertices, mesh.faces, relaxed, options.verification);
   MapVerificationThresholds bijective_only = options.verification;
   bijective_only.strict_conformal_bound = false;  // the canonical map trades conformality for area by design
@@ -101,7 +102,7 @@ SphericalMapResult compute_spherical_map(const Mesh& mesh, const SphericalMapOpt
   if (options.area_correction.method != AreaCorrection::None && result.ok())
     correct_area(mesh, options, context.input_mass(), result);
   if (options.canonical.method != CanonicalMap::None && result.ok())
-    relax_to_canonical(mesh, options, context.input_mass(), result);
+    relax_to_canonical(mesh, options, context.input_mass(), deadline, result);
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   result.cpu_seconds = CpuBudget::thread_cpu_seconds() - cpu0;
   return result;

@@ -1,13 +1,13 @@
 """GET /v1/models/{name}/report (issue 14, "Models"): the training report `wish train` wrote beside a model file,
 served as written and validated against proto's TrainingReport; 404 model_not_found for an unknown model, 404
 report_not_found for a model without one; read when asked for (a replaced report is served at once)."""
-import hashlib
 import json
 import os
 import shutil
 import tempfile
 import unittest
 
+import model_file_edit
 import wish_server_harness as h
 
 SKIP = h.skip_reason_binary() or (None if os.path.exists(h.DEFAULT_MODEL) else "no bundled default model")
@@ -15,14 +15,14 @@ DEFAULT_REPORT = os.path.join(h.SOURCE_DIR, "data", "models", "default-report.js
 
 
 def renamed_model(path, name):
-    """The model file at `path` under another model name, resealed (payload_sha256 is the SHA-256 of the payload's
-    compact, key-sorted JSON: core/classify/model_file.cpp)."""
-    with open(path) as f:
-        doc = json.load(f)
-    doc["payload"]["name"] = name
-    text = json.dumps(doc["payload"], sort_keys=True, separators=(",", ":"), ensure_ascii=False)
-    doc["payload_sha256"] = hashlib.sha256(text.encode()).hexdigest()
-    return doc
+    """The text of the model file at `path` under another model name, resealed as the C++ writer seals (the number
+    tokens kept as written: tests/testing/model_file_edit.py)."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    old = '"name": %s' % json.dumps(json.loads(text)["payload"]["name"])
+    assert text.count(old) == 1, old
+    text = text.replace(old, '"name": %s' % json.dumps(name))
+    return text.replace(json.loads(text)["payload_sha256"], model_file_edit.payload_seal(text))
 
 
 @unittest.skipIf(SKIP, SKIP or "")
@@ -32,8 +32,8 @@ class ModelReportTest(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp(prefix="wish-report-")
         cls.models = h.models_dir_with_default(cls.tmp)
         shutil.copy(DEFAULT_REPORT, os.path.join(cls.models, "default-report.json"))
-        with open(os.path.join(cls.models, "bare.json"), "w") as f:  # a model with no report beside it
-            json.dump(renamed_model(h.DEFAULT_MODEL, "bare"), f)
+        with open(os.path.join(cls.models, "bare.json"), "w", encoding="utf-8") as f:  # no report beside it
+            f.write(renamed_model(h.DEFAULT_MODEL, "bare"))
         with open(DEFAULT_REPORT) as f:
             cls.report = json.load(f)
         with open(h.DEFAULT_MODEL) as f:

@@ -2,6 +2,7 @@
 // (finite differences), its projected Hessian is positive semidefinite, a round sphere is already canonical, every
 // relaxation step keeps the map bijective, and — the point of the definition — the canonical map and its ξ do not
 // depend on which map the relaxation started from (a conformal flow's or the linear map's), nor on a rotation.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -182,6 +183,22 @@ TEST(CanonicalMap, EveryStepKeepsTheMapBijective) {
     EXPECT_LE(r.energy, before);
     EXPECT_NEAR(r.energy, spherical::canonical_map_energy(u, m.vertices, m.faces, c, 1e-14), 1e-9 * r.energy);
   }
+}
+
+// The request's deadline binds the relaxation too (its CPU budget alone could run for 6 s per 10K vertices past it):
+// an expired deadline stops it before the first step, with the start map untouched.
+TEST(CanonicalMap, StopsAtTheRequestDeadline) {
+  const Mesh m = testing::make_ellipsoid(3.0, 0.5, 0.5, 3);
+  SphericalMapOptions o = map_options(MapMethod::Cmcf);
+  o.canonical.method = CanonicalMap::None;
+  const SphericalMapResult start = compute_spherical_map(m, o);
+  ASSERT_TRUE(start.ok());
+  Eigen::MatrixX3d u = start.sphere;
+  const CanonicalMapReport r = spherical::relax_to_canonical_map(
+      u, m.vertices, m.faces, CanonicalMapOptions{}, 1e-14, Deadline::after(std::chrono::duration<double>(0)));
+  EXPECT_EQ(r.stop, CanonicalMapStop::TimeBudget);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(u, start.sphere);
 }
 
 }  // namespace
