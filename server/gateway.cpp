@@ -167,7 +167,7 @@ std::shared_ptr<Admission> Gateway::take_place(const AdmissionQuery& query, ApiE
       return nullptr;
     }
   }
-  admission->ticket = backlog_->enter(own.value_or(0));
+  admission->ticket = backlog_->enter(query.content_length);
   return admission;
 }
 
@@ -187,8 +187,8 @@ std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, co
   for (const auto& part : parts) {
     // Its place in the work backlog, predicted from its own bytes now that they are known (a volume: unknown).
     const std::uint64_t bytes = part.bytes->size();
-    auto ticket = futures.empty() && admission.ticket ? admission.ticket : backlog_->enter(0);
-    ticket->repredict(part.volume ? 0.0 : backlog_->predict(bytes).value_or(0.0));
+    auto ticket = futures.empty() && admission.ticket ? admission.ticket : backlog_->enter(std::nullopt);
+    ticket->set_bytes(part.volume ? std::nullopt : std::optional<std::uint64_t>(bytes));
     auto job = std::make_shared<ComputeJob>();
     job->op = request.op;
     job->params = params;

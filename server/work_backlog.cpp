@@ -21,9 +21,9 @@ WorkBacklog::Ticket::~Ticket() {
   backlog_->items_.erase(id_);
 }
 
-void WorkBacklog::Ticket::repredict(double seconds) {
+void WorkBacklog::Ticket::set_bytes(std::optional<std::uint64_t> bytes) {
   std::lock_guard lock(backlog_->mutex_);
-  backlog_->items_[id_].seconds = std::max(0.0, seconds);
+  backlog_->items_[id_].bytes = bytes;
 }
 
 void WorkBacklog::Ticket::start() {
@@ -49,26 +49,29 @@ void WorkBacklog::learn(std::uint64_t bytes, double seconds) {
 double WorkBacklog::wait_seconds() const {
   std::lock_guard lock(mutex_);
   const auto now = Clock::now();
+  const auto seconds = [this](const Item& item) {
+    return rate_ && item.bytes ? *rate_ * size_measure(*item.bytes) : 0.0;
+  };
   // When each worker is next free (a min-heap), then the waiting jobs in admission order, each on the first free one.
   std::vector<double> free_at;
   for (const auto& [id, item] : items_)
     if (item.running && static_cast<int>(free_at.size()) < workers_)
-      free_at.push_back(std::max(0.0, item.seconds - std::chrono::duration<double>(now - item.started).count()));
+      free_at.push_back(std::max(0.0, seconds(item) - std::chrono::duration<double>(now - item.started).count()));
   free_at.resize(static_cast<std::size_t>(workers_), 0.0);
   std::priority_queue<double, std::vector<double>, std::greater<>> heap(free_at.begin(), free_at.end());
   for (const auto& [id, item] : items_) {
     if (item.running) continue;
     const double t = heap.top();
     heap.pop();
-    heap.push(t + item.seconds);
+    heap.push(t + seconds(item));
   }
   return heap.top();
 }
 
-std::shared_ptr<WorkBacklog::Ticket> WorkBacklog::enter(double seconds) {
+std::shared_ptr<WorkBacklog::Ticket> WorkBacklog::enter(std::optional<std::uint64_t> bytes) {
   std::lock_guard lock(mutex_);
   const std::uint64_t id = next_id_++;
-  items_[id].seconds = std::max(0.0, seconds);
+  items_[id].bytes = bytes;
   return std::shared_ptr<Ticket>(new Ticket(shared_from_this(), id));
 }
 

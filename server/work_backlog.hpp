@@ -7,8 +7,9 @@
 // n^1.25 in vertices (issue 40: 10.8K / 43K / 173K / 690K vertices in 0.2 / 1.0 / 5.1 / 34 s), and bytes stand in
 // for vertices because a request's Content-Length is known before its body is read. `rate` is learned from the mesh
 // jobs that completed (an exponential average of their wall seconds on a worker): a machine slowed by other work
-// raises it, and the admission then takes less. Before any job completed nothing is predicted (the queue's count
-// alone decides). Label volumes are not predicted (their cost is per object, not per byte).
+// raises it, and the admission then takes less. The backlog keeps each job's bytes, not its seconds, so the jobs
+// already admitted are re-predicted at the current rate too. Before any job completed nothing is predicted (the
+// queue's count alone decides). Label volumes are not predicted (their cost is per object, not per byte).
 //
 // The wait of a job admitted now: the workers taken in order (first in, first out) by the jobs already admitted,
 // each running job for what is left of its prediction, each waiting one for its whole prediction; the wait is when
@@ -35,7 +36,8 @@ class WorkBacklog : public std::enable_shared_from_this<WorkBacklog> {
     ~Ticket();
     Ticket(const Ticket&) = delete;
     Ticket& operator=(const Ticket&) = delete;
-    void repredict(double seconds);  // once the job's bytes (its part of a request) are known
+    // Once the job's bytes (its part of a request) are known; none: a job whose seconds are not predicted.
+    void set_bytes(std::optional<std::uint64_t> bytes);
     void start();                    // a worker took the job
 
    private:
@@ -53,14 +55,14 @@ class WorkBacklog : public std::enable_shared_from_this<WorkBacklog> {
   void learn(std::uint64_t bytes, double seconds);
   // Seconds until a worker is free for a job admitted now.
   double wait_seconds() const;
-  // Admits a job predicted at `seconds` (0: unknown).
-  std::shared_ptr<Ticket> enter(double seconds);
+  // Admits a job of `bytes` (none: not predicted, it counts for nothing).
+  std::shared_ptr<Ticket> enter(std::optional<std::uint64_t> bytes);
 
   std::size_t size() const;
 
  private:
   struct Item {
-    double seconds = 0;
+    std::optional<std::uint64_t> bytes;
     bool running = false;
     Clock::time_point started{};
   };

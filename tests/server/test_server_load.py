@@ -124,7 +124,10 @@ class ServerLoadTest(unittest.TestCase):
         result = {}
         t = threading.Thread(target=lambda: result.setdefault("r", s.post_mesh("/v1/describe", self.diplodocus)))
         t.start()
-        self.assertTrue(h.wait_for(lambda: s.metric("wish_workers_busy") == 1))
+        if not h.wait_for(lambda: s.metric("wish_workers_busy") == 1):
+            s.kill()
+            t.join(timeout=120)
+            self.fail("the worker never took the diplodocus")
         return s, t, result
 
     def test_full_queue_answers_before_reading_the_body(self):
