@@ -14,14 +14,19 @@ on 127.0.0.1 with --workers W and --queue-size Q, then:
            answer, a 503 without Retry-After or a socket error is a lost request. Each level is also bounded in time
            (--level-timeout): past it the clients stop and the level is reported as cut short.
            Reported: throughput (M / wall time of the level) and its share of the bound; p50 / p99 latency of the
-           answered requests (the last attempt: queue wait included); 503s; lost; server CPU seconds per answered
+           answered requests (the last attempt: queue wait included); 503s; 504s (time limit passed: lost too);
+           lost; server CPU seconds per answered
            request and CPU use (share of the cores); peak RSS and threads sampled every 0.1 s; the load generator's
            own CPU share (it shares the cores with the server). The server's own counters
            (wish_http_requests_total) are checked against what the clients saw: a request the client counts as
            answered 200 or 503 must be in the server's counts, and nothing else.
 
   /usr/bin/python3 bench/server_load.py [--wish build/release/cli/wish] [--levels 1,2,8,64] [--workers 2]
-      [--queue-size 32] [--meshes nucleus,subdivided] [--soak 300]
+      [--queue-size 32] [--meshes nucleus,subdivided] [--soak 300] [--server-args '--admit-fraction 0']
+      [--vs OTHER_WISH]
+
+--vs: the same levels against a second executable (e.g. a build of another commit), each mesh's two servers one
+after the other in this run, so the two tables are measured under the same load (rows marked A and B).
 
 --soak S: afterwards, S seconds at concurrency W on the first mesh with the RSS peak per minute (a memory leak
 shows as a rising peak). Everything runs on 127.0.0.1; the server is stopped by its pid.
@@ -128,13 +133,14 @@ def status_fields(pid):
 
 
 class Server:
-    def __init__(self, wish, models, workers, queue_size, tmp):
+    def __init__(self, wish, models, workers, queue_size, tmp, extra_args=()):
         self.log_path = os.path.join(tmp, "server-%d.log" % time.time_ns())
         self.log = open(self.log_path, "wb")
         # `wish serve ...` or the service executable itself (`wish-server ...`: what `wish serve` runs).
         command = [wish] if os.path.basename(wish) == "wish-server" else [wish, "serve"]
         self.proc = subprocess.Popen(command + ["--models", models, "--host", "127.0.0.1", "--port", "0",
-                                                "--workers", str(workers), "--queue-size", str(queue_size)],
+                                                "--workers", str(workers), "--queue-size", str(queue_size)]
+                                     + list(extra_args),
                                      stdout=self.log, stderr=subprocess.STDOUT)
         self.port = None
         for _ in range(600):
@@ -220,7 +226,7 @@ class Sampler:
 def run_level(server, route, body, clients, requests, timeout):
     """`requests` requests by `clients` threads; 503 + Retry-After is waited out and sent again."""
     lock = threading.Lock()
-    state = {"next": 0, "latencies": [], "rejected": 0, "lost": [], "answered": 0}
+    state = {"next": 0, "latencies": [], "rejected": 0, "lost": [], "answered": 0, "statuses": {}}
     deadline = time.time() + timeout
 
     def client():
@@ -243,9 +249,11 @@ def run_level(server, route, body, clients, requests, timeout):
                 if status == 503 and retry_after is not None and time.time() < deadline:
                     with lock:
                         state["rejected"] += 1
+                        state["statuses"][503] = state["statuses"].get(503, 0) + 1
                     time.sleep(float(retry_after))
                     continue
                 with lock:
+                    state["statuses"][status] = state["statuses"].get(status, 0) + 1
                     if status == 200:
                         state["latencies"].append(dt)
                         state["answered"] += 1
@@ -271,10 +279,10 @@ def run_level(server, route, body, clients, requests, timeout):
     counts1 = server.status_counts(route)
     seen = {s: counts1.get(s, 0) - counts0.get(s, 0) for s in set(counts0) | set(counts1)}
     seen = {s: n for s, n in seen.items() if n}
-    expected = {200: state["answered"], 503: state["rejected"]}
-    expected = {s: n for s, n in expected.items() if n}
+    expected = {s: n for s, n in state["statuses"].items() if n}
     lat = sorted(state["latencies"])
     return {"clients": clients, "requests": requests, "answered": state["answered"], "rejected": state["rejected"],
+            "timeouts": state["statuses"].get(504, 0),
             "lost": state["lost"], "cut_short": state["answered"] + len(state["lost"]) < requests, "wall": wall,
             "throughput": state["answered"] / wall, "p50": percentile(lat, 0.50), "p99": percentile(lat, 0.99),
             "cpu_per_request": cpu / max(1, state["answered"]), "cpu_use": cpu / wall,
@@ -314,6 +322,8 @@ def main():
     ap.add_argument("--level-timeout", type=float, default=600.0, help="seconds a level may take at most")
     ap.add_argument("--single", type=int, default=0, help="sequential requests alone (0: about 10 s of them)")
     ap.add_argument("--soak", type=float, default=0.0, help="extra seconds at concurrency = workers, RSS per minute")
+    ap.add_argument("--server-args", default="", help="more arguments for the server (split on spaces)")
+    ap.add_argument("--vs", default="", help="a second wish executable measured the same way in this run (rows B)")
     args = ap.parse_args()
     if not os.path.isfile(args.nucleus):
         sys.exit("nucleus mesh not found: %s (../shared/data/nmv_nuclei)" % args.nucleus)
@@ -324,24 +334,27 @@ def main():
     meshes = make_meshes(args.meshes.split(","), args.nucleus, tmp)
     print("POST %s, %d workers, queue %d, %d cores; bound = min(cores, workers) / server CPU s per request alone"
           % (args.route, args.workers, args.queue_size, cores))
-    header = ("%-10s %7s %5s %4s %5s %4s %7s %6s %8s %8s %7s %6s %6s %7s %4s %s"
-              % ("mesh", "vertices", "conc", "reqs", "503s", "lost", "req/s", "bound", "p50 s", "p99 s", "CPU s/r",
-                 "CPU %", "client", "RSS MiB", "thr", "server counts"))
+    header = ("%-1s %-10s %7s %5s %4s %5s %4s %4s %7s %6s %8s %8s %7s %6s %6s %7s %4s %s"
+              % ("", "mesh", "vertices", "conc", "reqs", "503s", "504s", "lost", "req/s", "bound", "p50 s", "p99 s",
+                 "CPU s/r", "CPU %", "client", "RSS MiB", "thr", "server counts"))
+    servers = [("A", args.wish)] + ([("B", args.vs)] if args.vs else [])
+    for label, wish in servers:
+        print("%s = %s %s" % (label, wish, args.server_args))
     rows, soaked, soak_line = [], False, None
-    for name, (path, vertices) in meshes.items():
+    for (name, (path, vertices)), (label, wish) in ((m, w) for m in meshes.items() for w in servers):
         body = open(path, "rb").read()
-        server = Server(args.wish, args.models, args.workers, args.queue_size, tmp)
+        server = Server(wish, args.models, args.workers, args.queue_size, tmp, args.server_args.split())
         try:
             cpu1, _ = alone(server, args.route, body, 1)  # also the warm-up
             single = args.single or max(3, min(20, int(10 / cpu1)))
             cpu_alone, latency_alone = alone(server, args.route, body, single)
             bound = min(cores, args.workers) / cpu_alone
-            print("%s: %d vertices, %d bytes; alone (%d requests): %.3f CPU s and %.3f s per request -> bound %.2f "
-                  "req/s" % (name, vertices, len(body), single, cpu_alone, latency_alone, bound))
+            print("%s %s: %d vertices, %d bytes; alone (%d requests): %.3f CPU s and %.3f s per request -> bound %.2f "
+                  "req/s" % (label, name, vertices, len(body), single, cpu_alone, latency_alone, bound))
             for c in levels:
                 r = run_level(server, args.route, body, c, requests_for(c, args.workers, cpu_alone, args.seconds),
                               args.level_timeout)
-                r.update(mesh=name, vertices=vertices, bound=bound)
+                r.update(mesh=name, vertices=vertices, bound=bound, label=label)
                 rows.append(r)
             if args.soak > 0 and not soaked:
                 soaked = True
@@ -357,19 +370,21 @@ def main():
     print()
     print(header)
     for r in rows:
-        print("%-10s %7d %5d %4d %5d %4d %7.2f %5.0f%% %8.3f %8.3f %7.3f %5.0f%% %5.1f%% %7.0f %4d %s%s" % (
-            r["mesh"], r["vertices"], r["clients"], r["requests"], r["rejected"], len(r["lost"]), r["throughput"],
+        print("%-1s %-10s %7d %5d %4d %5d %4d %4d %7.2f %5.0f%% %8.3f %8.3f %7.3f %5.0f%% %5.1f%% %7.0f %4d %s%s" % (
+            r["label"], r["mesh"], r["vertices"], r["clients"], r["requests"], r["rejected"], r["timeouts"],
+            len(r["lost"]), r["throughput"],
             100 * r["throughput"] / r["bound"], r["p50"], r["p99"], r["cpu_per_request"], 100 * r["cpu_use"] / cores,
             100 * r["client_cpu"] / cores, r["rss_mib"], r["threads"],
             "agree" if r["server_counts_agree"] else "DIFFER %s" % r["server_counts"],
             " (cut short by --level-timeout)" if r["cut_short"] else ""))
     lost = sum(len(r["lost"]) for r in rows)
     print("lost requests: %d%s" % (lost, "" if not lost else " " + str([r["lost"] for r in rows if r["lost"]])))
-    saturated = [r for r in rows if r["clients"] >= 2 * args.workers]
-    if saturated:
-        worst = min(r["throughput"] / r["bound"] for r in saturated)
-        print("at saturation (>= %d clients): %.0f %% of the bound at worst -> target 90 %% %s" % (
-            2 * args.workers, 100 * worst, "met" if worst >= 0.9 else "NOT met"))
+    for label, _ in servers:
+        saturated = [r for r in rows if r["clients"] >= 2 * args.workers and r["label"] == label]
+        if saturated:
+            worst = min(r["throughput"] / r["bound"] for r in saturated)
+            print("%s at saturation (>= %d clients): %.0f %% of the bound at worst -> target 90 %% %s" % (
+                label, 2 * args.workers, 100 * worst, "met" if worst >= 0.9 else "NOT met"))
 
     if soak_line:
         print(soak_line)

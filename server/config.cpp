@@ -30,6 +30,7 @@ void ServerConfig::finalize() {
   require(max_volume_voxels > 0 && max_volume_objects > 0 && max_object_box_voxels > 0,
           "volume voxel, object and object box limits must be > 0");
   require(queue_size >= 0, "queue size must be >= 0");
+  require(admit_fraction >= 0 && admit_fraction <= 1, "admit fraction must be in [0, 1] (0: off)");
   require(workers <= 1024 && http_threads <= 4096, "too many threads");
   require(shutdown_grace_seconds >= 0, "grace period must be >= 0");
   require(read_timeout_seconds > 0 && read_timeout_seconds <= 3600, "read timeout must be in (0, 3600] s");
@@ -56,6 +57,8 @@ std::string ServerConfig::describe() const {
       << "novelty_quantile = " << novelty_quantile << (novelty_quantile == 0 ? " (each model's own)" : "") << "\n"
       << "volume_time_limit_seconds = " << volume_time_limit_seconds << "\n"
       << "queue_size = " << queue_size << "\n"
+      << "admit_fraction = " << admit_fraction << (admit_fraction == 0 ? " (off: the queue's count alone)" : "")
+      << "\n"
       << "workers = " << workers << "\n"
       << "http_threads = " << http_threads << "\n"
       << "read_timeout_seconds = " << read_timeout_seconds << "\n"

@@ -1,5 +1,6 @@
 #include "server/gateway.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -22,7 +23,8 @@ ApiError shutting_down_error() {
 
 Gateway::Gateway(const ServerConfig& config, ModelRegistry& models, WorkerPool& pool, Metrics& metrics,
                  CancelRegistry& cancels, ComputeFunction compute)
-    : config_(config), models_(models), pool_(pool), metrics_(metrics), cancels_(cancels), compute_(std::move(compute)) {}
+    : config_(config), models_(models), pool_(pool), metrics_(metrics), cancels_(cancels), compute_(std::move(compute)),
+      backlog_(std::make_shared<WorkBacklog>(pool.workers())) {}
 
 ApiResponse Gateway::health() const { return json_response(200, {{"status", "ok"}}); }
 
@@ -105,9 +107,73 @@ std::shared_ptr<const LoadedModel> Gateway::resolve_model(Operation op, const Co
   throw InvalidInputError("model_required", "several models are loaded and none is the default; name one with ?model=");
 }
 
+AdmissionVerdict Gateway::admit(const AdmissionQuery& query, const std::string& request_id) {
+  AdmissionVerdict verdict;
+  ApiError refusal;
+  verdict.admission = take_place(query, refusal);
+  if (!verdict.admission) verdict.refusal = error_response(refusal, request_id);
+  return verdict;
+}
+
+std::shared_ptr<Admission> Gateway::take_place(const AdmissionQuery& query, ApiError& refusal) {
+  if (grace_over_.load()) {
+    metrics_.count_rejected("shutting_down");
+    refusal = shutting_down_error();
+    return nullptr;
+  }
+  if (query.content_length && *query.content_length > config_.max_upload_bytes) {
+    refusal = to_api_error(WishError(ErrorCategory::TooLarge, "payload_too_large",
+                                     "the request body (" + std::to_string(*query.content_length) +
+                                         " bytes) exceeds the upload limit of " +
+                                         std::to_string(config_.max_upload_bytes) + " bytes",
+                                     {{"content_length", static_cast<std::int64_t>(*query.content_length)},
+                                      {"limit", static_cast<std::int64_t>(config_.max_upload_bytes)}}));
+    return nullptr;
+  }
+  auto admission = std::make_shared<Admission>();
+  admission->place = pool_.try_reserve();
+  if (!admission->place) {
+    metrics_.count_rejected("queue_full");
+    refusal = to_api_error(WishError(ErrorCategory::Unavailable, "queue_full",
+                                     "the job queue is full (" + std::to_string(pool_.capacity()) + " waiting, " +
+                                         std::to_string(pool_.workers()) + " workers busy); retry later",
+                                     {{"queue_capacity", static_cast<std::int64_t>(pool_.capacity())},
+                                      {"workers", static_cast<std::int64_t>(pool_.workers())}}));
+    return nullptr;
+  }
+  // By time: the wait the jobs already admitted predict, plus this request's own prediction, against its time limit
+  // counted from arrival. A request is never refused for its own size when a worker is free for it at once (it
+  // alone past the limit is the time limit's business, not overload's). A label volume is not known to be one
+  // before its body is read: it is judged as a mesh of its size here.
+  const std::optional<double> own =
+      query.content_length ? backlog_->predict(*query.content_length) : std::optional<double>{};
+  if (config_.admit_fraction > 0 && own) {
+    const double wait = backlog_->wait_seconds();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - query.arrival).count();
+    const double allowed = config_.admit_fraction * config_.time_limit_seconds;
+    const double finish = elapsed + wait + *own;
+    if (wait > 0 && finish > allowed) {
+      metrics_.count_rejected("queue_time");
+      refusal = to_api_error(WishError(
+          ErrorCategory::Unavailable, "queue_full",
+          fmt::format("the work queued ahead ({:.1f} s predicted) and this request's own ({:.1f} s) would end "
+                      "{:.1f} s after its arrival, past {:.1f} s ({:g} of the {:g} s time limit); retry later",
+                      wait, *own, finish, allowed, config_.admit_fraction, config_.time_limit_seconds),
+          {{"predicted_wait_seconds", wait}, {"predicted_seconds", *own},
+           {"time_limit_seconds", config_.time_limit_seconds}, {"admit_fraction", config_.admit_fraction}}));
+      // When enough of the work ahead should be done for this request to fit.
+      refusal.retry_after_seconds = std::max(refusal.retry_after_seconds,
+                                             static_cast<int>(std::ceil(std::min(finish - allowed, wait))));
+      return nullptr;
+    }
+  }
+  admission->ticket = backlog_->enter(query.content_length);
+  return admission;
+}
+
 std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, const ComputeParams& params,
                                                const std::shared_ptr<const LoadedModel>& model,
-                                               const std::vector<MeshPart>& parts) {
+                                               const std::vector<MeshPart>& parts, Admission& admission) {
   // One job per part; all of them are queued or none (a batch is not half-accepted). The time limit counts from
   // the request's arrival, so time spent reading the body and waiting in the queue is part of it; a request that
   // uploads a label volume (many objects, each described) has the volume time limit.
@@ -119,6 +185,10 @@ std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, co
   std::vector<std::future<ComputeOutcome>> futures;
   std::vector<WorkerPool::Job> jobs;
   for (const auto& part : parts) {
+    // Its place in the work backlog, predicted from its own bytes now that they are known (a volume: unknown).
+    const std::uint64_t bytes = part.bytes->size();
+    auto ticket = futures.empty() && admission.ticket ? admission.ticket : backlog_->enter(std::nullopt);
+    ticket->set_bytes(part.volume ? std::nullopt : std::optional<std::uint64_t>(bytes));
     auto job = std::make_shared<ComputeJob>();
     job->op = request.op;
     job->params = params;
@@ -132,9 +202,18 @@ std::vector<ComputeOutcome> Gateway::run_parts(const ComputeRequest& request, co
     futures.push_back(promise->get_future());
     // The job holds copies (the configuration outlives the pool; the compute function is copied): a job whose
     // request gave up waiting still runs to its next deadline check after this function returned.
-    jobs.push_back([job, promise, cfg = &config_, compute = compute_] { promise->set_value(compute(*job, *cfg)); });
+    // A mesh answered 200 teaches the backlog its worker seconds (refusals end early and would teach it wrong).
+    jobs.push_back([job, promise, cfg = &config_, compute = compute_, ticket, backlog = backlog_, bytes,
+                    learn = !part.volume] {
+      ticket->start();
+      const auto started = Clock::now();
+      ComputeOutcome outcome = compute(*job, *cfg);
+      if (learn && outcome.status == 200)
+        backlog->learn(bytes, std::chrono::duration<double>(Clock::now() - started).count());
+      promise->set_value(std::move(outcome));
+    });
   }
-  if (!pool_.try_submit(std::move(jobs))) {
+  if (!pool_.try_submit(std::move(jobs), admission.place)) {
     metrics_.count_rejected("queue_full");
     throw WishError(ErrorCategory::Unavailable, "queue_full",
                     "the job queue is full (" + std::to_string(pool_.capacity()) + " waiting, " +
@@ -238,7 +317,20 @@ ApiResponse Gateway::compute(ComputeRequest request) {
       metrics_.count_rejected("shutting_down");
       throw WishError(ErrorCategory::Unavailable, "shutting_down", "the server is shutting down");
     }
-    auto outcomes = run_parts(request, params, model, parts);
+    // Admitted from its headers by the transport, or here from the body's size.
+    std::shared_ptr<Admission> admission = std::move(request.admission);
+    if (!admission) {
+      std::uint64_t bytes = 0;
+      for (const auto& part : parts) bytes += part.bytes->size();
+      ApiError refusal;
+      admission = take_place({request.arrival, bytes}, refusal);
+      if (!admission) {
+        ApiResponse out = error_response(refusal, request.request_id);
+        out.parts = part_count;
+        return out;
+      }
+    }
+    auto outcomes = run_parts(request, params, model, parts, *admission);
     ApiResponse out = assemble(request, parts, outcomes);
     out.parts = part_count;
     return out;

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -42,9 +43,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Per-request bookkeeping for the access line and metrics. httplib runs pre-routing, the handler, the error
-// handler and the logger of one request on the same thread, one request at a time, so thread_local is exact.
+// Per-request bookkeeping for the access line and metrics. httplib runs the expect-100 hook, pre-routing, the
+// handler, the error handler and the logger of one request on the same thread, one request at a time, so
+// thread_local is exact (Transport::serve_connection clears it before each request).
 struct RequestState {
+  bool begun = false;  // begin_request ran (the expect-100 hook runs before pre-routing)
+  std::shared_ptr<Admission> admission;  // a compute request admitted from its headers (the expect-100 hook)
   std::string request_id;
   Clock::time_point start{};
   std::string route = "unmatched";
@@ -91,6 +95,31 @@ void write_response(httplib::Response& res, const ApiResponse& response) {
 
 void write_error(httplib::Response& res, const ApiError& error) {
   write_response(res, error_response(error, t_request.request_id));
+}
+
+// The request's id and start time, once per request (from the expect-100 hook or from pre-routing).
+void begin_request(const httplib::Request& req, httplib::Response& res) {
+  if (t_request.begun) return;
+  t_request.begun = true;
+  t_request.start = Clock::now();
+  const std::string incoming = req.get_header_value("X-Request-Id");
+  t_request.request_id = acceptable_request_id(incoming) ? incoming : new_request_id();
+  res.set_header("X-Request-Id", t_request.request_id);
+}
+
+bool is_compute_route(const httplib::Request& req) {
+  return req.method == "POST" && (req.path == route(RouteId::Describe).path || req.path == route(RouteId::Classify).path);
+}
+
+// What the gateway judges a compute request by before its body is read. A chunked body has no length here.
+AdmissionQuery admission_query(const httplib::Request& req) {
+  AdmissionQuery query;
+  query.arrival = t_request.start;
+  const std::string length = req.get_header_value("Content-Length");
+  std::uint64_t n = 0;
+  const auto [end, ec] = std::from_chars(length.data(), length.data() + length.size(), n);
+  if (!length.empty() && ec == std::errc() && end == length.data() + length.size()) query.content_length = n;
+  return query;
 }
 
 // Reading the body ourselves (content reader) rather than letting httplib do it: a raw body sent with curl's
@@ -264,18 +293,26 @@ class Transport : public httplib::Server {
     const timeval send_limit{static_cast<time_t>(write_timeout_sec_), static_cast<suseconds_t>(write_timeout_usec_)};
     ::setsockopt(sock, SOL_SOCKET, SO_SNDTIMEO, &send_limit, sizeof send_limit);
     ConnectionStream stream(sock, read_ms, write_ms, phases.grace_over);
+    t_body_unread = false;
     for (std::size_t served = 0; served < keep_alive_max_count_; ++served) {
       if (!next_request_arrives(sock, served == 0, phases)) break;
       const bool last = served + 1 == keep_alive_max_count_ || phases.closing.is_set();
       bool client_closes = false;
       t_response_closes = false;
-      if (!process_request(stream, last, client_closes, nullptr) || client_closes || last || t_response_closes) break;
+      t_request = RequestState{};
+      if (!process_request(stream, last, client_closes, nullptr) || client_closes || last || t_response_closes ||
+          t_body_unread)
+        break;
     }
-    close_connection(sock, stream.interrupted());
+    t_request = RequestState{};  // frees an admission a request that was not answered may have left
+    close_connection(sock, stream.interrupted(), t_body_unread);
   }
 
   // Set by the post-routing hook when the response just written said Connection: close.
   static thread_local bool t_response_closes;
+  // Set by a handler that answered without reading the request's body (a refusal from the headers): the
+  // connection then closes, lingering for the body (close_connection).
+  static thread_local bool t_body_unread;
 
  private:
   // httplib's keep_alive(): wait up to the keep-alive timeout for the first byte of the next request. Shutting down,
@@ -294,18 +331,21 @@ class Transport : public httplib::Server {
     }
   }
 
-  // A request answered before its body was read (cut short at the end of the grace period, refused by auth or by
-  // size) leaves bytes unread: closing then makes the kernel send a reset, which can destroy the answer before the
-  // client reads it. So the write side is shut first and what the client still sends is read and dropped, for a
-  // bounded time.
-  static void close_connection(int sock, bool interrupted) {
+  // A request answered before its body was read (cut short at the end of the grace period, refused by auth, by
+  // size or by admission) leaves bytes unread: closing then makes the kernel send a reset, which can destroy the
+  // answer before the client reads it. So the write side is shut first (the client sees the answer end) and what
+  // the client still sends is read and dropped, never kept, for a bounded time. A refusal from the headers
+  // (body_unread) lingers longer, as most clients send the whole body before they read the answer: until the client
+  // closes or stops sending for 1 s, at most 30 s (nginx's lingering close does the same).
+  static void close_connection(int sock, bool interrupted, bool body_unread) {
     pollfd pending{sock, POLLIN, 0};
-    if (interrupted || ::poll(&pending, 1, 0) > 0) {
+    if (interrupted || body_unread || ::poll(&pending, 1, 0) > 0) {
       ::shutdown(sock, SHUT_WR);
-      const auto until = Clock::now() + std::chrono::seconds(2);
-      char sink[4096];
+      const auto until = Clock::now() + std::chrono::seconds(body_unread ? 30 : 2);
+      const int quiet_ms = body_unread ? 1000 : 200;
+      std::array<char, 65536> sink;
       pollfd fd{sock, POLLIN, 0};
-      while (Clock::now() < until && ::poll(&fd, 1, 200) > 0 && ::recv(sock, sink, sizeof sink, 0) > 0) {
+      while (Clock::now() < until && ::poll(&fd, 1, quiet_ms) > 0 && ::recv(sock, sink.data(), sink.size(), 0) > 0) {
       }
     }
     ::shutdown(sock, SHUT_RDWR);
@@ -314,6 +354,7 @@ class Transport : public httplib::Server {
 };
 
 thread_local bool Transport::t_response_closes = false;
+thread_local bool Transport::t_body_unread = false;
 
 }  // namespace
 
@@ -349,22 +390,22 @@ struct HttpServer::Impl {
 
   void install_hooks() {
     server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-      t_request = RequestState{};
-      t_request.start = Clock::now();
-      const std::string incoming = req.get_header_value("X-Request-Id");
-      t_request.request_id = acceptable_request_id(incoming) ? incoming : new_request_id();
-      res.set_header("X-Request-Id", t_request.request_id);
-      if (!config.auth_token.empty() && req.path.rfind("/v1/", 0) == 0) {
-        const std::string header = req.get_header_value("Authorization");
-        const std::string expected = "Bearer " + config.auth_token;
-        if (!constant_time_equal(header, expected)) {
-          t_request.route = "auth";
-          res.set_header("Connection", "close");  // the body (if any) is not read
-          write_error(res, unauthorized_error());
-          return httplib::Server::HandlerResponse::Handled;
-        }
-      }
+      begin_request(req, res);
+      if (refuse_unauthorized(req, res)) return httplib::Server::HandlerResponse::Handled;
       return httplib::Server::HandlerResponse::Unhandled;
+    });
+
+    // A client that asks before sending its body (Expect: 100-continue; curl does for a body over 1 MB) is answered
+    // from the headers: refused (401, 413, 503 + Retry-After) without the body ever being sent, or admitted (its
+    // queue place held, t_request.admission) and told to send it.
+    server.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
+      begin_request(req, res);
+      if (refuse_unauthorized(req, res)) return res.status;
+      if (is_compute_route(req)) {
+        t_request.route = req.path;
+        if (!admit_from_headers(req, res)) return res.status;
+      }
+      return 100;
     });
 
     // Runs as each response's headers are written. From the signal on, every response closes its connection, so a
@@ -496,16 +537,46 @@ struct HttpServer::Impl {
     }
   }
 
+  // Bearer auth on /v1/*: false when the request may go on, true when it was answered 401 (its body unread).
+  bool refuse_unauthorized(const httplib::Request& req, httplib::Response& res) {
+    if (config.auth_token.empty() || req.path.rfind("/v1/", 0) != 0) return false;
+    if (constant_time_equal(req.get_header_value("Authorization"), "Bearer " + config.auth_token)) return false;
+    t_request.route = "auth";
+    res.set_header("Connection", "close");  // the body (if any) is not read
+    Transport::t_body_unread = true;
+    write_error(res, unauthorized_error());
+    return true;
+  }
+
+  // The gateway's admission of a compute request from its headers (once per request): true with the admission in
+  // t_request; false when it was refused and answered, its body unread (the connection then closes).
+  bool admit_from_headers(const httplib::Request& req, httplib::Response& res) {
+    if (t_request.admission) return true;
+    AdmissionVerdict verdict = gateway.admit(admission_query(req), t_request.request_id);
+    if (verdict.admitted()) {
+      t_request.admission = std::move(verdict.admission);
+      return true;
+    }
+    res.set_header("Connection", "close");
+    Transport::t_body_unread = true;
+    write_response(res, verdict.refusal);
+    return false;
+  }
+
   void handle_compute(Operation op, const httplib::Request& req, httplib::Response& res,
                       const httplib::ContentReader& reader) {
+    // Refused before the body is read: a full queue or an oversized Content-Length costs the server no upload.
+    if (!admit_from_headers(req, res)) return;
     ComputeRequest request;
     try {
       request = read_compute_request(op, req, res, reader, config.max_parts);
     } catch (...) {
       // A body cut short by the end of the grace period is answered like a request that came too late.
       write_error(res, phases.grace_over.is_set() ? shutting_down_error() : to_api_error(std::current_exception()));
+      t_request.admission.reset();
       return;
     }
+    request.admission = std::move(t_request.admission);
     write_response(res, gateway.compute(std::move(request)));
   }
 };

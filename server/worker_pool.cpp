@@ -14,17 +14,53 @@ WorkerPool::WorkerPool(int workers, int queue_capacity)
 
 WorkerPool::~WorkerPool() { shutdown(); }
 
-bool WorkerPool::try_submit(std::vector<Job> jobs) {
+WorkerPool::Reservation& WorkerPool::Reservation::operator=(Reservation&& other) noexcept {
+  if (this != &other) {
+    release();
+    pool_ = other.pool_;
+    other.pool_ = nullptr;
+  }
+  return *this;
+}
+
+void WorkerPool::Reservation::release() {
+  if (!pool_) return;
+  {
+    std::lock_guard lock(pool_->mutex_);
+    --pool_->reserved_;
+  }
+  pool_ = nullptr;
+}
+
+bool WorkerPool::try_submit(std::vector<Job> jobs) { return try_submit(jobs, 0); }
+
+bool WorkerPool::try_submit(std::vector<Job> jobs, Reservation& reservation) {
+  if (reservation.pool_ != this) return try_submit(jobs, 0);
+  if (!try_submit(jobs, 1)) return false;
+  reservation.pool_ = nullptr;  // its place is now a queued job (try_submit took it off reserved_)
+  return true;
+}
+
+bool WorkerPool::try_submit(std::vector<Job>& jobs, std::size_t reserved_by_caller) {
   {
     std::lock_guard lock(mutex_);
     if (stopping_) return false;
     // Idle workers take queued jobs immediately (even if they have not woken up yet), so they are free capacity
-    // on top of the queue slots.
-    if (queue_.size() + jobs.size() > capacity_ + static_cast<std::size_t>(idle_)) return false;
+    // on top of the queue slots; places held for other requests are taken.
+    if (queue_.size() + (reserved_ - reserved_by_caller) + jobs.size() > capacity_ + static_cast<std::size_t>(idle_))
+      return false;
+    reserved_ -= reserved_by_caller;
     for (auto& job : jobs) queue_.push_back(std::move(job));
   }
   cv_.notify_all();
   return true;
+}
+
+WorkerPool::Reservation WorkerPool::try_reserve() {
+  std::lock_guard lock(mutex_);
+  if (stopping_ || queue_.size() + reserved_ + 1 > capacity_ + static_cast<std::size_t>(idle_)) return {};
+  ++reserved_;
+  return Reservation(this);
 }
 
 void WorkerPool::run() {
@@ -69,7 +105,7 @@ int WorkerPool::busy_workers() const {
 
 bool WorkerPool::accepting() const {
   std::lock_guard lock(mutex_);
-  return !stopping_ && queue_.size() < capacity_ + static_cast<std::size_t>(idle_);
+  return !stopping_ && queue_.size() + reserved_ < capacity_ + static_cast<std::size_t>(idle_);
 }
 
 }  // namespace wish::server

@@ -61,7 +61,7 @@ constexpr std::array kCodes{
     ErrorCodeInfo{"out_of_memory", kTransport, 503, "the server ran out of memory for this request; retry later"},
     ErrorCodeInfo{"parse_error", C::InvalidInput, 0, "the file's syntax is wrong (line and token in the message)"},
     ErrorCodeInfo{"payload_too_large", C::TooLarge, 0, "the request body exceeds the upload limit"},
-    ErrorCodeInfo{"queue_full", C::Unavailable, 0, "the worker queue is full; retry after Retry-After seconds"},
+    ErrorCodeInfo{"queue_full", C::Unavailable, 0, "the worker queue is full, or the work queued ahead would keep the request past its time limit; retry after Retry-After seconds"},
     ErrorCodeInfo{"report_not_found", C::NotFound, 0, "the model has no readable training report beside its file"},
     ErrorCodeInfo{"shutting_down", C::Unavailable, 0, "the server is draining for shutdown"},
     ErrorCodeInfo{"spectrum_failed", C::Internal, 0, "the Laplace-Beltrami eigenvalues (ShapeDNA) could not be computed (factorisation or convergence)"},

@@ -64,6 +64,10 @@ int main(int argc, char** argv) {
       ->envname("WISH_VOLUME_TIME_LIMIT")->capture_default_str();
   app.add_option("--queue-size", c.queue_size, "Jobs waiting for a worker (503 + Retry-After beyond)")
       ->envname("WISH_QUEUE_SIZE")->capture_default_str();
+  app.add_option("--admit-fraction", c.admit_fraction,
+                 "Refuse a request at once (503 + Retry-After) when its predicted queue wait plus its own predicted "
+                 "seconds pass this fraction of its time limit (0: off, the queue size alone)")
+      ->envname("WISH_ADMIT_FRACTION")->capture_default_str();
   app.add_option("--workers", c.workers, "Compute workers (0: number of cores)")->envname("WISH_WORKERS")
       ->capture_default_str();
   app.add_option("--http-threads", c.http_threads,

@@ -387,6 +387,86 @@ TEST(Gateway, FullQueueIsRefusedAtOnceWithNoJobQueued) {
   EXPECT_NE(f.metrics.render({}).find("reason=\"queue_full\""), std::string::npos);
 }
 
+TEST(Gateway, AdmissionRefusesAnOversizedContentLengthBeforeTheBody) {
+  Fixture f(false, /*workers=*/1, /*queue=*/0);
+  AdmissionQuery query;
+  query.content_length = f.config.max_upload_bytes + 1;
+  const AdmissionVerdict v = f.gateway.admit(query, "req-413");
+  ASSERT_FALSE(v.admitted());
+  EXPECT_EQ(v.refusal.status, 413);
+  EXPECT_EQ(body_of(v.refusal)["error"]["code"], "payload_too_large");
+  EXPECT_EQ(body_of(v.refusal)["error"]["details"]["limit"], f.config.max_upload_bytes);
+  EXPECT_TRUE(wait_for([&] { return f.pool.accepting(); }));  // no place was taken
+}
+
+TEST(Gateway, AnAdmittedRequestHoldsItsQueuePlaceUntilItsJobIsQueued) {
+  Fixture f(false, /*workers=*/1, /*queue=*/0);
+  ASSERT_TRUE(wait_for([&] { return f.pool.accepting(); }));  // the worker's thread is up
+  AdmissionQuery query;
+  query.content_length = 1;
+  AdmissionVerdict first = f.gateway.admit(query, "req-a");
+  ASSERT_TRUE(first.admitted());
+  // Its body is being read: the only place is taken, the next request is refused at once.
+  const AdmissionVerdict second = f.gateway.admit(query, "req-b");
+  ASSERT_FALSE(second.admitted());
+  EXPECT_EQ(second.refusal.status, 503);
+  EXPECT_EQ(body_of(second.refusal)["error"]["code"], "queue_full");
+  bool retry_after = false;
+  for (const auto& [name, value] : second.refusal.headers) retry_after = retry_after || name == "Retry-After";
+  EXPECT_TRUE(retry_after);
+  // The first one's job takes the held place.
+  ComputeRequest request = raw_request(Operation::Describe, "x");
+  request.admission = std::move(first.admission);
+  EXPECT_EQ(f.gateway.compute(std::move(request)).status, 200);
+  // An admission dropped unused (its body could not be read) frees its place too.
+  ASSERT_TRUE(wait_for([&] { return f.pool.accepting(); }));
+  {
+    const AdmissionVerdict dropped = f.gateway.admit(query, "req-c");
+    ASSERT_TRUE(dropped.admitted());
+  }
+  EXPECT_TRUE(f.gateway.admit(query, "req-d").admitted());
+}
+
+TEST(Gateway, AdmissionRefusesARequestPredictedToEndPastItsTimeLimit) {
+  Fixture f(false, /*workers=*/1, /*queue=*/8, /*time_limit=*/1.0);
+  f.config.admit_fraction = 0.5;  // admitted when predicted to end within 0.5 s of arrival
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> block{false};
+  f.compute.reply = [&](const ComputeJob&) {
+    if (block) released.wait();
+    else std::this_thread::sleep_for(100ms);
+    ComputeOutcome o;
+    o.status = 200;
+    o.result = nlohmann::json::object();
+    return o;
+  };
+  // Learned: 1 MB in about 0.1 s, so 4 MB is predicted at about 0.1 × 4^1.25 = 0.57 s.
+  EXPECT_EQ(f.gateway.compute(raw_request(Operation::Describe, std::string(1'000'000, 'x'))).status, 200);
+  block = true;
+  std::thread running([&] { f.gateway.compute(raw_request(Operation::Describe, std::string(4'000'000, 'x'))); });
+  ASSERT_TRUE(wait_for([&] { return f.pool.busy_workers() == 1; }));
+  AdmissionQuery query;
+  query.content_length = 4'000'000;
+  const AdmissionVerdict late = f.gateway.admit(query, "req-late");
+  release.set_value();
+  running.join();
+  ASSERT_FALSE(late.admitted());
+  EXPECT_EQ(late.refusal.status, 503);
+  const auto error = body_of(late.refusal)["error"];
+  EXPECT_EQ(error["code"], "queue_full");
+  EXPECT_GT(error["details"]["predicted_wait_seconds"].get<double>(), 0.0);
+  EXPECT_GT(error["details"]["predicted_seconds"].get<double>(), 0.3);
+  EXPECT_NE(f.metrics.render({}).find("reason=\"queue_time\""), std::string::npos);
+  // With the worker free, the same request is admitted although it alone is predicted past 0.5 s: that is the time
+  // limit's business, not overload's.
+  ASSERT_TRUE(wait_for([&] { return f.pool.busy_workers() == 0; }));
+  EXPECT_TRUE(f.gateway.admit(query, "req-alone").admitted());
+  // Off: the queue's count alone decides.
+  f.config.admit_fraction = 0;
+  EXPECT_TRUE(f.gateway.admit(query, "req-off").admitted());
+}
+
 TEST(Gateway, DeadlineCountsFromArrival) {
   Fixture f(false, 2, 8, /*time_limit=*/1.0);
   std::atomic<int> expired{-1};

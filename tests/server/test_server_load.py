@@ -1,9 +1,11 @@
 """Concurrency, back-pressure and lifecycle of the real server: N concurrent clients get correct answers, a full
-queue answers 503 quickly, SIGHUP / admin reloads under load lose no request, SIGTERM during load loses no accepted
-request and exits 0."""
+queue answers 503 quickly and before the request's body is read, a burst past what the time limit allows is refused
+503 at admission rather than answered 504 after waiting, SIGHUP / admin reloads under load lose no request, SIGTERM
+during load loses no accepted request and exits 0."""
 import os
 import shutil
 import signal
+import socket
 import tempfile
 import threading
 import time
@@ -29,6 +31,38 @@ def run_parallel(fn, n):
     return results
 
 
+def raw_request_head(path, content_length, extra=""):
+    return ("POST %s HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/octet-stream\r\n"
+            "Content-Length: %d\r\n%s\r\n" % (path, content_length, extra)).encode()
+
+
+def read_head(sock, timeout):
+    """The status line and headers of the next response on a raw socket: (status, {lower name: value}); raises
+    socket.timeout when none arrives within timeout seconds."""
+    sock.settimeout(timeout)
+    data = b""
+    while b"\r\n\r\n" not in data:
+        chunk = sock.recv(65536)
+        if not chunk:
+            raise ConnectionError("closed before a response: %r" % data[:200])
+        data += chunk
+    head, _, rest = data.partition(b"\r\n\r\n")
+    lines = head.decode().split("\r\n")
+    headers = dict((k.strip().lower(), v.strip()) for k, _, v in (l.partition(":") for l in lines[1:]))
+    return int(lines[0].split()[1]), headers, rest
+
+
+def closes_within(sock, seconds):
+    """True when the server closes the connection (EOF) within `seconds`, whatever else it sends."""
+    sock.settimeout(seconds)
+    try:
+        while sock.recv(65536):
+            pass
+        return True
+    except socket.timeout:
+        return False
+
+
 
 @unittest.skipIf(SKIP, SKIP or "")
 class ServerLoadTest(unittest.TestCase):
@@ -37,6 +71,8 @@ class ServerLoadTest(unittest.TestCase):
         self.sphere = h.read_bytes(h.shared("genus0_closed", "sphere.off"))
         self.blobby = h.read_bytes(h.shared("genus0_closed", "blobby.off"))   # ~0.4 s
         self.bear = h.read_bytes(h.shared("genus0_closed", "bear.off"))       # ~4 s
+        self.cow = h.read_bytes(h.shared("genus0_closed", "cow.off"))         # ~0.2 s
+        self.diplodocus = h.read_bytes(h.shared("genus0_closed", "diplodocus.off"))  # ~4 s
 
     def tearDown(self):
         shutil.rmtree(self.tmp, ignore_errors=True)
@@ -81,6 +117,109 @@ class ServerLoadTest(unittest.TestCase):
                     self.assertEqual(r.header("Retry-After"), "2")
                     self.assertLess(done, first_done)
             self.assertEqual(s.metric("wish_rejected_requests_total", {"reason": "queue_full"}), 4)
+
+    def busy_server_with_no_place(self, extra_args=()):
+        """A server with one worker running a diplodocus describe (~4 s) and no queue place: (server, thread, result)."""
+        s = h.Server(args=["--workers", "1", "--queue-size", "0", "--retry-after", "3"] + list(extra_args))
+        result = {}
+        t = threading.Thread(target=lambda: result.setdefault("r", s.post_mesh("/v1/describe", self.diplodocus)))
+        t.start()
+        if not h.wait_for(lambda: s.metric("wish_workers_busy") == 1):
+            s.kill()
+            t.join(timeout=120)
+            self.fail("the worker never took the diplodocus")
+        return s, t, result
+
+    def test_full_queue_answers_before_reading_the_body(self):
+        # The request announces 48 MB and sends 64 KB of it; the 503 comes back while the rest is still unsent: the
+        # server answered from the headers, it neither waited for nor kept the body. It then closes the connection.
+        s, t, result = self.busy_server_with_no_place()
+        with s:
+            sock = socket.create_connection(("127.0.0.1", s.port))
+            sock.sendall(raw_request_head("/v1/describe", 48 << 20) + b"\0" * 65536)
+            status, headers, _ = read_head(sock, timeout=30)
+            self.assertNotIn("r", result, "answered only after the running job ended")
+            self.assertEqual(status, 503)
+            self.assertEqual(headers.get("retry-after"), "3")
+            self.assertEqual(headers.get("connection"), "close")
+            self.assertTrue(closes_within(sock, 10), "the connection was left open")
+            sock.close()
+            self.assertEqual(s.metric("wish_rejected_requests_total", {"reason": "queue_full"}), 1)
+            t.join(timeout=120)
+            self.assertEqual(result["r"].status, 200)
+
+    def test_refusal_from_the_headers_reaches_a_client_that_sends_its_whole_body_first(self):
+        # Python's http.client (like most clients) sends the whole body before reading: the server drops what it
+        # reads after its answer instead of resetting the connection under it, so the client still gets its 503.
+        s, t, _ = self.busy_server_with_no_place()
+        with s:
+            r = s.post_mesh("/v1/describe", b"\0" * (8 << 20))
+            self.assertEqual(r.status, 503, r.body[:200])
+            self.assertEqual(r.json()["error"]["code"], "queue_full")
+            self.assertEqual(r.header("Retry-After"), "3")
+            t.join(timeout=120)
+
+    def test_oversized_content_length_is_refused_before_the_body(self):
+        with h.Server(args=["--max-upload-bytes", "1000000"]) as s:
+            sock = socket.create_connection(("127.0.0.1", s.port))
+            sock.sendall(raw_request_head("/v1/classify", 50_000_000) + b"\0" * 65536)
+            status, headers, rest = read_head(sock, timeout=30)
+            self.assertEqual(status, 413)
+            self.assertEqual(headers.get("connection"), "close")
+            body_len = int(headers["content-length"])
+            while len(rest) < body_len:
+                rest += sock.recv(65536)
+            error = __import__("json").loads(rest[:body_len])["error"]
+            self.assertEqual(error["code"], "payload_too_large")
+            self.assertEqual(error["details"]["limit"], 1000000)
+            self.assertTrue(closes_within(sock, 10))
+            sock.close()
+
+    def test_expect_100_continue_is_answered_from_the_headers(self):
+        s, t, _ = self.busy_server_with_no_place()
+        with s:
+            # Refused: the final 503 instead of "100 Continue", so the client never sends its body.
+            sock = socket.create_connection(("127.0.0.1", s.port))
+            sock.sendall(raw_request_head("/v1/describe", len(self.sphere), "Expect: 100-continue\r\n"))
+            status, headers, _ = read_head(sock, timeout=30)
+            self.assertEqual(status, 503)
+            self.assertEqual(headers.get("retry-after"), "3")
+            sock.close()
+            t.join(timeout=120)
+            # Admitted (the worker is free now): 100 Continue, then the answer to the body.
+            self.assertTrue(h.wait_for(lambda: s.metric("wish_workers_busy") == 0))
+            sock = socket.create_connection(("127.0.0.1", s.port))
+            sock.sendall(raw_request_head("/v1/describe", len(self.sphere), "Expect: 100-continue\r\n"))
+            status, _, _ = read_head(sock, timeout=30)
+            self.assertEqual(status, 100)
+            sock.sendall(self.sphere)
+            status, _, _ = read_head(sock, timeout=120)
+            self.assertEqual(status, 200)
+            sock.close()
+
+    def test_burst_past_the_time_limit_is_refused_at_admission_not_timed_out(self):
+        # One worker, a queue of 64, a 4 s limit: a burst of 24 describes of ~0.2 s each is about 5 s of work, so
+        # queued by count alone the tail would wait past the limit and be answered 504. Admission by predicted time
+        # (--admit-fraction 0.5: a request is admitted when it is predicted to end within 2 s of its arrival)
+        # refuses the tail at once with 503 + Retry-After, and every request it admitted finishes.
+        with h.Server(args=["--workers", "1", "--queue-size", "64", "--time-limit", "4", "--admit-fraction", "0.5"]) as s:
+            for _ in range(2):  # the server learns what this mesh costs
+                self.assertEqual(s.post_mesh("/v1/describe", self.cow).status, 200)
+
+            def one(i):
+                return s.post_mesh("/v1/describe", self.cow, timeout=120)
+            results = run_parallel(one, 24)
+            statuses = [r.status for r in results]
+            self.assertNotIn(504, statuses)
+            self.assertEqual(set(statuses) - {200, 503}, set(), statuses)
+            self.assertGreater(statuses.count(200), 0, statuses)
+            self.assertGreater(statuses.count(503), 0, statuses)  # the burst is past what 2 s allows
+            for r in results:
+                if r.status == 503:
+                    self.assertEqual(r.json()["error"]["code"], "queue_full")
+                    self.assertGreaterEqual(int(r.header("Retry-After")), 1)
+                    self.assertIn("predicted_wait_seconds", r.json()["error"]["details"])
+            self.assertEqual(s.metric("wish_rejected_requests_total", {"reason": "queue_time"}), statuses.count(503))
 
     def test_readyz_reflects_full_queue(self):
         with h.Server(args=["--workers", "1", "--queue-size", "0"]) as s:
