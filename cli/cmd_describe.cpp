@@ -26,6 +26,7 @@
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/sh/sh_fit_names.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 #include "core/spherical_map/map_types.hpp"
 #include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
@@ -170,7 +171,7 @@ CommandRunner setup_describe(CLI::App& sub) {
   const PipelineOptions defaults;
   sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF, OME-Zarr store or .zip)")->required();
   sub.add_option("--lmax", options->overrides.lmax, "Maximum SH degree")
-      ->check(CLI::Range(0, kShMaxFitLmax))->default_str(std::to_string(defaults.sh.lmax));
+      ->check(CLI::Range(kShMinFitLmax, kShMaxFitLmax))->default_str(std::to_string(defaults.sh.lmax));
   auto* json = sub.add_flag("--json", options->json, "JSON array, one object per file");
   sub.add_flag("--csv", options->csv, "CSV, one row per mesh, invariants as columns xi_0..xi_L")->excludes(json);
   add_enum_option(sub, "--method", options->overrides.method, kMapMethodNames, defaults.map.method,

@@ -4,7 +4,9 @@
 #include <sstream>
 #include <thread>
 
+#include "core/classify/feature_pipeline.hpp"  // kMinFeatureLmax
 #include "core/common/errors.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 
 namespace wish::server {
 
@@ -20,7 +22,11 @@ void ServerConfig::finalize() {
   require(port >= 0 && port <= 65535, "port must be in 0..65535");
   require(max_upload_bytes > 0, "max upload bytes must be > 0");
   require(max_vertices > 0 && max_faces > 0, "vertex and face limits must be > 0");
-  require(max_lmax >= 1 && max_lmax <= 200, "max Lmax must be in 1..200");
+  // Core's bounds, not the service's own: a request's lmax starts at the features' minimum, and the SH fit refuses
+  // anything above kShMaxFitLmax, so a larger limit would only admit requests that fail later.
+  require(max_lmax >= kMinFeatureLmax && max_lmax <= kShMaxFitLmax,
+          "max Lmax " + std::to_string(max_lmax) + " must be in " + std::to_string(kMinFeatureLmax) + ".." +
+              std::to_string(kShMaxFitLmax) + " (the SH fit's limit is Lmax " + std::to_string(kShMaxFitLmax) + ")");
   require(max_parts >= 1, "max parts must be >= 1");
   require(max_steps >= 1, "max steps must be >= 1");
   require(time_limit_seconds > 0, "time limit must be > 0");

@@ -18,7 +18,7 @@ struct ServerConfig {
   std::uint64_t max_upload_bytes = 64ull << 20;  // whole request body
   std::int64_t max_vertices = 500'000;           // per mesh
   std::int64_t max_faces = 1'000'000;            // per mesh, after triangulation
-  int max_lmax = 40;                             // SH degree a describe request may ask for
+  int max_lmax = 40;                             // SH degree a request may ask for; within core's range (finalize)
   int max_parts = 16;                            // mesh parts in one multipart request
   int max_steps = 200;                           // flow step cap a request may ask for
   // Label volume uploads (NIfTI-1, TIFF): one result per object.

@@ -4,9 +4,12 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <set>
 
+#include "core/classify/feature_pipeline.hpp"  // kMinFeatureLmax
 #include "core/common/errors.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 #include "core/spherical_map/map_types.hpp"
 #include "core/volume/object_mode.hpp"
 
@@ -152,12 +155,15 @@ ComputeParams parse_compute_params(Operation op, const ParamMap& params, const S
       if (value.empty()) invalid_parameter(name, "parameter model is empty", value);
       out.model = value;
     } else if (name == "lmax") {
-      // Lmax above the configured limit is a size problem (413), below 1 a bad parameter (400).
-      const int lmax = parse_int(name, value, 1, 100000);
-      if (lmax > config.max_lmax)
-        throw LimitExceededError("lmax=" + value + " exceeds the server's limit of " + std::to_string(config.max_lmax),
+      // Core's range first: below the features' minimum is a bad parameter (400); above the configured limit, which
+      // finalize keeps within the SH fit's kShMaxFitLmax (and the min guards an unfinalised config), a size problem
+      // (413), as the fit itself would say.
+      const int lmax = parse_int(name, value, kMinFeatureLmax, std::numeric_limits<int>::max());
+      const int allowed = std::min(config.max_lmax, kShMaxFitLmax);
+      if (lmax > allowed)
+        throw LimitExceededError("lmax=" + value + " exceeds the server's limit of " + std::to_string(allowed),
                                  {{"limit", std::string("lmax")}, {"value", std::int64_t{lmax}},
-                                  {"allowed", std::int64_t{config.max_lmax}}});
+                                  {"allowed", std::int64_t{allowed}}});
       out.descriptor.lmax = lmax;
     } else if (name == "method") {
       // The one list of methods (core kMapMethodNames; proto/openapi.json's MapMethod schema is generated from it).

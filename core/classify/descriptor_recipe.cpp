@@ -21,8 +21,9 @@ OffRecipePolicy off_recipe_policy_from_name(const std::string& name) {
 }
 
 void validate_recipe(const DescriptorRecipe& r, const std::string& code) {
-  if (r.sh.lmax < 0 || r.sh.lmax > 100)
-    throw InvalidInputError(code, "recipe sh.lmax " + std::to_string(r.sh.lmax) + " is out of range 0..100");
+  if (r.sh.lmax < kShMinFitLmax || r.sh.lmax > kShMaxFitLmax)
+    throw InvalidInputError(code, "recipe sh.lmax " + std::to_string(r.sh.lmax) + " is out of the SH fit's range " +
+                                      std::to_string(kShMinFitLmax) + ".." + std::to_string(kShMaxFitLmax));
   if (r.features.l_min < 0 || r.features.l_min > r.features.l_max)
     throw InvalidInputError(code, "recipe features use xi(" + std::to_string(r.features.l_min) + ".." +
                                       std::to_string(r.features.l_max) + "), an empty or negative range");

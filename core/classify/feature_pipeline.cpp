@@ -34,7 +34,7 @@ void validate_feature_spec(const FeatureSpec& spec) {
     throw InvalidInputError("feature_spec", "spectrum_count " + std::to_string(spec.spectrum_count) + " for family " +
                                                 to_string(spec.family));
   if (blocks.invariants || blocks.canonical_sh) {
-    if (spec.l_min < 0 || spec.l_max < spec.l_min || spec.l_max > 100)
+    if (spec.l_min < 0 || spec.l_max < spec.l_min || spec.l_max > kShMaxFitLmax)
       throw InvalidInputError("feature_spec", "invalid range of l: [" + std::to_string(spec.l_min) + ", " +
                                                   std::to_string(spec.l_max) + "]");
     if (spec.scale == ScaleNormalization::ByFirstInvariant && spec.l_max < 1)

@@ -10,8 +10,14 @@
 #include <Eigen/Core>
 
 #include "core/classify/classifier_model.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 
 namespace wish {
+
+// The smallest Lmax features can be built from: they start at degree 1 (xi(0) is the energy of the centroid, which
+// moves with the mesh; the canonical SH coefficients start at degree 1 too), so a fit to Lmax 0 leaves no feature.
+// The bound of `wish train --lmax` and of a service request's lmax, with the fit's kShMaxFitLmax above.
+inline constexpr int kMinFeatureLmax = 1;
 
 const char* to_string(FeatureFamily family);         // "invariants" | "global" | "combined"
 const char* to_string(ScaleNormalization scale);     // "none" | "xi1" | "area"

@@ -227,7 +227,9 @@ DescriptorRecipe recipe_from_json(const json& j) {
   SettingsReader reader{j, "payload.recipe", static_cast<int>(version), {}};
   visit_recipe(reader, r);
   reader.finish({"recipe_version"});
-  if (r.sh.lmax < 0 || r.sh.lmax > 100) invalid("recipe.sh.lmax " + std::to_string(r.sh.lmax) + " is out of range");
+  if (r.sh.lmax < kShMinFitLmax || r.sh.lmax > kShMaxFitLmax)
+    invalid("recipe.sh.lmax " + std::to_string(r.sh.lmax) + " is out of the SH fit's range " +
+            std::to_string(kShMinFitLmax) + ".." + std::to_string(kShMaxFitLmax));
   const json& names = field(field(j, "features", "recipe"), "names", "recipe.features");
   if (names != json(feature_names(r.features)))
     invalid("recipe.features.names do not match the feature pipeline (" + names.dump() + ")");

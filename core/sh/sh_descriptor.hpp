@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "core/mesh/mesh.hpp"
+#include "core/sh/sh_lmax_range.hpp"  // kShMinFitLmax, kShMaxFitLmax: the Lmax the fit accepts
 
 namespace wish {
 
@@ -47,8 +48,6 @@ struct ShFitOptions {
   FitSampling sampling = FitSampling::Vertices;  // Surface: weighting is ignored (the surface's own area measure)
   bool operator==(const ShFitOptions&) const = default;
 };
-
-inline constexpr int kShMaxFitLmax = 64;  // fit_spherical_harmonics refuses larger Lmax (k^2 doubles of memory)
 
 struct FitError {
   double mean = 0, rms = 0, max = 0;                   // |x_i - x_L(w_i)| in input units

@@ -21,8 +21,9 @@ namespace wish {
 namespace {
 
 void check_options(const ShFitOptions& o) {
-  if (o.lmax < 0)
-    throw InvalidInputError("invalid_parameter", "lmax " + std::to_string(o.lmax) + " is negative",
+  if (o.lmax < kShMinFitLmax)
+    throw InvalidInputError("invalid_parameter",
+                            "lmax " + std::to_string(o.lmax) + " is below the minimum " + std::to_string(kShMinFitLmax),
                             {{"lmax", std::int64_t{o.lmax}}});
   if (o.lmax > kShMaxFitLmax)
     throw LimitExceededError("lmax " + std::to_string(o.lmax) + " exceeds the limit " + std::to_string(kShMaxFitLmax),

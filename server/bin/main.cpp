@@ -9,6 +9,7 @@
 
 #include "core/common/errors.hpp"
 #include "core/common/process_signals.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 #include "server/config.hpp"
 #include "server/run_server.hpp"
 
@@ -40,7 +41,8 @@ int main(int argc, char** argv) {
       ->envname("WISH_MAX_VERTICES")->capture_default_str();
   app.add_option("--max-faces", c.max_faces, "Most triangles per mesh (413 above)")
       ->envname("WISH_MAX_FACES")->capture_default_str();
-  app.add_option("--max-lmax", c.max_lmax, "Largest Lmax a request may ask for (413 above)")
+  app.add_option("--max-lmax", c.max_lmax,
+                 "Largest Lmax a request may ask for (413 above; at most the SH fit's " + std::to_string(kShMaxFitLmax) + ")")
       ->envname("WISH_MAX_LMAX")->capture_default_str();
   app.add_option("--max-parts", c.max_parts, "Most mesh parts in one multipart request (413 above)")
       ->envname("WISH_MAX_PARTS")->capture_default_str();

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/classify/feature_pipeline.hpp"
 #include "core/common/errors.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 #include "core/spherical_map/map_types.hpp"
 
 namespace wish::server {
@@ -102,6 +104,21 @@ TEST(ParseComputeParams, LimitsAreSizeProblems) {
   e = thrown([&] { parse_compute_params(Operation::Describe, {{"steps", "51"}}, c); });
   EXPECT_EQ(e.category(), ErrorCategory::TooLarge);
   EXPECT_EQ(detail(e, "limit"), "steps");
+}
+
+TEST(ParseComputeParams, LmaxRangeIsCoresWhateverTheConfigSays) {
+  // finalize keeps max_lmax within core's range; an unfinalised config above it still cannot let past the SH fit's
+  // limit, and the refusal names the bound that applied.
+  ServerConfig c = config();
+  c.max_lmax = kShMaxFitLmax + 100;
+  EXPECT_EQ(parse_compute_params(Operation::Describe, {{"lmax", std::to_string(kShMaxFitLmax)}}, c).descriptor.lmax,
+            kShMaxFitLmax);
+  const auto e = thrown([&] { parse_compute_params(Operation::Describe, {{"lmax", std::to_string(kShMaxFitLmax + 1)}}, c); });
+  EXPECT_EQ(e.category(), ErrorCategory::TooLarge);
+  EXPECT_NE(std::string(e.what()).find("limit of " + std::to_string(kShMaxFitLmax)), std::string::npos) << e.what();
+  // Below the features' minimum: a bad parameter, whatever the limit.
+  const auto low = thrown([&] { parse_compute_params(Operation::Describe, {{"lmax", std::to_string(kMinFeatureLmax - 1)}}, c); });
+  EXPECT_EQ(low.code(), "invalid_parameter");
 }
 
 TEST(ParseComputeParams, EveryMapMethodOfTheCoreTable) {
