@@ -13,12 +13,11 @@
 // that, is lost: losses are counted per class and error code in the report and on stdout, and training stops
 // when a class loses more than --max-class-loss of its meshes (unless --allow-losses). When the global descriptors are available, accuracies with xi alone, global alone and
 // combined are printed side by side.
-#include <algorithm>
-#include <filesystem>
+// The driver itself (gathering, the descriptor CSV's fallbacks and checks, training, the comparison) is core's
+// run_training (core/pipeline/training_run.hpp); this file maps the options to its request and prints its result.
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <sstream>
 
@@ -27,7 +26,6 @@
 
 #include "cli/command_registry.hpp"
 #include "cli/enum_option.hpp"
-#include "cli/file_bytes.hpp"
 #include "cli/volume_options.hpp"
 #include "core/classify/dataset.hpp"
 #include "core/classify/default_recipe.hpp"
@@ -37,19 +35,16 @@
 #include "core/classify/recipe_names.hpp"
 #include "core/classify/grid_search.hpp"
 #include "core/classify/training.hpp"
-#include "core/classify/training_losses.hpp"
 #include "core/classify/training_report.hpp"
 #include "core/common/errors.hpp"
-#include "core/pipeline/pipeline.hpp"
-#include "core/pipeline/training_set.hpp"
+#include "core/pipeline/training_run.hpp"
 #include "core/sh/sh_fit_names.hpp"
+#include "core/sh/sh_lmax_range.hpp"
 #include "core/spherical_map/map_types.hpp"
 #include "wire/training_report_json.hpp"
 
 namespace wish::cli {
 namespace {
-
-namespace fs = std::filesystem;
 
 const DescriptorRecipe kDefaults = default_training_recipe();
 
@@ -95,8 +90,9 @@ CommandRunner setup_train(CLI::App& sub) {
                  "Class directory tree (meshes or label volumes), manifest CSV (path,label[,label_id]) or descriptor CSV")
       ->required();
   sub.add_option("--labels", o->labels, "Manifest CSV (path,label) giving the labels of a descriptor CSV");
+  // Core's bounds (issue 37 item 5): features start at degree 1, the SH fit stops at kShMaxFitLmax.
   sub.add_option("--lmax", o->lmax, "Use xi(1..Lmax); meshes are described with this Lmax")
-      ->check(CLI::Range(1, 100))->capture_default_str();
+      ->check(CLI::Range(kMinFeatureLmax, kShMaxFitLmax))->capture_default_str();
   CLI::Option* features_option = add_enum_option(sub, "--features", o->features, kFeatureFamilyNames, "Feature family");
   sub.add_option("--spectrum-count", o->spectrum_count,
                  "Families with the spectrum: how many Laplace-Beltrami eigenvalues (ShapeDNA)")
@@ -175,7 +171,11 @@ CommandRunner setup_train(CLI::App& sub) {
       "instead. A model records its recipe: classify uses it.\n"
       "\n" + training_scale_help(ScalePolicy{}));
   return [o, features_option]() {
-    DescriptorRecipe recipe;
+    // Options -> request; the driver (core/pipeline/training_run.hpp) gathers, checks, falls back and trains.
+    TrainingRunRequest request;
+    request.input = o->input;
+    request.labels = o->labels;
+    DescriptorRecipe& recipe = request.recipe;
     recipe.map.method = o->method;
     recipe.map.fallback = !o->no_fallback;
     recipe.map.area_correction.method = area_correction_from_name(o->area_correction);
@@ -186,7 +186,7 @@ CommandRunner setup_train(CLI::App& sub) {
     recipe.sh.solver = o->solver;
     recipe.sh.regularization = o->regularization;
     recipe.features.family = o->features;
-    recipe.features.l_min = 1;
+    recipe.features.l_min = kMinFeatureLmax;
     recipe.features.l_max = o->lmax;
     recipe.features.scale = o->scale;
     recipe.features.log_transform = o->log;
@@ -195,73 +195,13 @@ CommandRunner setup_train(CLI::App& sub) {
     // the recipe version it was before issue 38 (descriptor_recipe_codec.hpp) and equal to the bundled model's.
     recipe.features.spectrum_count = family_blocks(o->features).spectrum ? o->spectrum_count : 0;
     recipe.off_recipe = o->off_recipe;
+    request.family_chosen = features_option->count() > 0;
+    request.describe.volume = to_volume_options(o->volume);
+    request.describe_jobs = o->jobs;
+    request.compare_families = !o->no_compare;
 
-    std::vector<TrainingSample> samples;
-    std::vector<MeshLoss> failures;
-    std::vector<std::string> unlabelled;
-    bool have_global = true, described_here = true;  // false: the samples come from a descriptor CSV
-    const fs::path input = o->input;
-    auto describe = [&](const std::vector<DatasetItem>& items) {
-      DescribeSetOptions d;
-      d.jobs = o->jobs;
-      d.progress = [quiet = o->quiet](const std::string& line, bool lost) { print_progress(line, lost, quiet); };
-      TrainingDescribeOptions how;
-      how.volume = to_volume_options(o->volume);
-      TrainingSet set = describe_dataset(items, recipe_describer(recipe, how), d);
-      samples = std::move(set.samples);
-      failures = std::move(set.losses);
-    };
-    if (fs::is_directory(input)) {
-      const auto items = list_class_directories(input);
-      if (items.empty()) throw InvalidInputError("training_data", "no meshes or label volumes in class sub-directories of " + o->input);
-      std::cerr << "describing " << items.size() << " files (Lmax " << o->lmax << ", " << to_string(o->method) << ")\n";
-      describe(items);
-    } else {
-      const std::string text = read_file_bytes(o->input);
-      const auto rows = parse_csv(text.substr(0, text.find('\n') + 1));
-      const bool descriptor_csv = !rows.empty() && std::any_of(rows[0].begin(), rows[0].end(), [](const std::string& h) {
-        return h == "xi_0";
-      });
-      if (descriptor_csv) {
-        std::map<std::string, std::string> labels;
-        if (!o->labels.empty())
-          for (const auto& [path, label] : read_manifest(read_file_bytes(o->labels), fs::path(o->labels).parent_path()))
-            labels[path] = label;
-        DescriptorTable table = read_descriptor_table(text, labels);
-        samples = std::move(table.samples);
-        unlabelled = table.unlabelled;
-        have_global = table.has_global;
-        described_here = false;
-        recipe.sh.lmax = table.lmax;  // the descriptors were fitted up to this Lmax: the model must say so
-        if (o->lmax > table.lmax)
-          throw InvalidInputError("training_data", "--lmax " + std::to_string(o->lmax) + " exceeds the CSV's xi_" +
-                                                       std::to_string(table.lmax));
-        std::cerr << "read " << samples.size() << " labelled descriptors (xi_0..xi_" << table.lmax
-                  << (have_global ? ", global descriptors" : "") << ") from " << o->input
-                  << "; the model records the map/fit settings given on this command line\n";
-        for (const auto& f : unlabelled) std::cerr << "wish train: skipped " << f << ": no label\n";
-      } else {
-        const auto items = read_dataset_manifest(text, input.parent_path());
-        std::cerr << "describing " << items.size() << " files from the manifest (Lmax " << o->lmax << ")\n";
-        describe(items);
-      }
-    }
-    for (const auto& f : failures) std::cerr << "wish train: lost " << f.id << ": [" << f.code << "] " << f.message << "\n";
-    if (!failures.empty()) {
-      // Before training can stop on them; the stdout report repeats the table (training_report_table).
-      std::cerr << failures.size() << " of " << samples.size() + failures.size()
-                << " samples (meshes or volume objects) are NOT in the training set (refused or failed):\n"
-                << loss_table(summarize_training_set({samples, failures})) << "\n";
-    }
-    if (!o->save_descriptors.empty()) {
-      std::ofstream(o->save_descriptors) << write_descriptor_table(samples);
-      std::cerr << "wrote descriptors to " << o->save_descriptors << "\n";
-    }
-
-    TrainOptions t;
+    TrainOptions& t = request.train;
     t.name = o->name;
-    t.recipe = recipe;
-    t.losses = failures;
     t.loss_policy.max_class_loss = o->max_class_loss;
     t.loss_policy.allow_losses = o->allow_losses;
     t.grid.Cs = decade_grid(o->c_range[0], o->c_range[1]);
@@ -279,46 +219,28 @@ CommandRunner setup_train(CLI::App& sub) {
     t.refit_on_all = o->refit_all;
     t.seed = o->seed;
     if (!o->quiet) t.progress = [](const std::string& line) { std::cerr << "  " << line << "\n"; };
-    if (!have_global && features_option->count() == 0 && t.recipe.needs_global_features()) {
-      // A descriptor CSV of xi alone (written before --save-descriptors kept the global columns): the default family
-      // cannot be built from it, the paper's can. Said, not silent; an explicit --features still fails below.
-      std::cerr << "note: " << input.string() << " has no global descriptors (g_* columns): training with features "
-                << to_string(FeatureFamily::Invariants) << " instead of the default " << to_string(o->features) << "\n";
-      o->features = FeatureFamily::Invariants;
-      t.recipe.features.family = FeatureFamily::Invariants;
-      recipe.features.family = FeatureFamily::Invariants;
-    }
-    const bool needs_global = t.recipe.needs_global_features();
-    if (needs_global && !have_global)
-      throw InvalidInputError("training_data", "--features " + std::string(to_string(o->features)) + (t.recipe.features.scale == ScaleNormalization::ByArea ? " / --scale area" : "") +
-                                                   " needs the global descriptors (g_* columns); train from meshes or a "
-                                                   "CSV written by --save-descriptors");
 
-    std::cerr << "training on " << samples.size() << " samples, features " << to_string(o->features) << "\n";
-    if (described_here && recipe.map.canonical.method != CanonicalMap::None) {
-      const auto unconverged = std::count_if(samples.begin(), samples.end(),
-                                             [](const TrainingSample& s) { return s.canonical_unconverged; });
-      std::cout << "canonical map: " << samples.size() - static_cast<std::size_t>(unconverged) << " of "
-                << samples.size() << " relaxations converged; " << unconverged
-                << " stopped by their budget or step cap (kept: the recipe's descriptor, reported per mesh)\n";
-    }
-    const TrainingResult result = train_classifier(samples, t);
-    result.model.save(o->out);
+    TrainingRunEvents& events = request.events;
+    events.note = [](const std::string& line) { std::cerr << line << "\n"; };
+    events.item_described = [quiet = o->quiet](const std::string& line, bool lost) { print_progress(line, lost, quiet); };
+    events.samples_gathered = [o](const std::vector<TrainingSample>& samples) {
+      if (o->save_descriptors.empty()) return;
+      std::ofstream(o->save_descriptors) << write_descriptor_table(samples);
+      std::cerr << "wrote descriptors to " << o->save_descriptors << "\n";
+    };
+    events.summary = [](const std::string& line) { std::cout << line << "\n"; };
+    events.model_trained = [o](const TrainingResult& trained) { trained.model.save(o->out); };
 
-    const std::vector<FamilyScore> families =
-        have_global && !o->no_compare
-            ? compare_feature_families(samples, t, result.report,
-                                       [](const std::string& family) {
-                                         std::cerr << "comparison: training with features " << family << "\n";
-                                       })
-            : std::vector<FamilyScore>{family_score(to_string(o->features), result.report)};
+    const TrainingRunResult run = run_training(std::move(request));
+    const TrainingResult& result = run.trained;
+    const FeatureSpec& trained_features = result.model.feature_spec();  // after the run's fallback, if it took one
 
     std::cout << training_report_table(result.report) << "\n";
     std::cout << "feature family comparison (same splits and seed):\n";
     std::cout << std::left << std::setw(12) << "features" << std::right << std::setw(6) << "dim" << std::setw(9) << "C"
               << std::setw(9) << "gamma" << std::setw(8) << "grid" << std::setw(8) << "test" << std::setw(18) << "nested CV"
               << "\n";
-    for (const FamilyScore& row : families) {
+    for (const FamilyScore& row : run.families) {
       std::ostringstream cv;
       cv << std::fixed << std::setprecision(3) << row.nested_mean << " +- " << row.nested_std;
       std::cout << std::left << std::setw(12) << row.family << std::right << std::setw(6) << row.features
@@ -329,17 +251,19 @@ CommandRunner setup_train(CLI::App& sub) {
     }
     std::cout << "model: " << o->out << " (" << result.model.classes().size() << " classes, sha256 "
               << result.model.payload_sha256().substr(0, 16) << "...)\n";
-    if (!failures.empty() || !unlabelled.empty())
-      std::cout << "skipped: " << failures.size() << " failed meshes, " << unlabelled.size() << " unlabelled rows (see stderr)\n";
+    if (!run.losses.empty() || !run.unlabelled.empty())
+      std::cout << "skipped: " << run.losses.size() << " failed meshes, " << run.unlabelled.size()
+                << " unlabelled rows (see stderr)\n";
 
     if (!o->report.empty()) {
       const nlohmann::json rep = wire::training_run_json(
-          result.report, {o->input, o->out, result.model.payload_sha256(), families, failures, unlabelled});
+          result.report, {o->input, o->out, result.model.payload_sha256(), run.families, run.losses, run.unlabelled});
       std::ofstream(o->report) << rep.dump(2) << "\n";
     }
     if (!o->heatmap.empty())
-      std::ofstream(o->heatmap) << grid_heatmap_svg(result.report.grid, "WISH grid search (" + std::string(to_string(o->features)) + ", Lmax " +
-                                                                           std::to_string(o->lmax) + ")");
+      std::ofstream(o->heatmap) << grid_heatmap_svg(result.report.grid, "WISH grid search (" +
+                                                                            std::string(to_string(trained_features.family)) +
+                                                                            ", Lmax " + std::to_string(trained_features.l_max) + ")");
     return kExitOk;
   };
 }
