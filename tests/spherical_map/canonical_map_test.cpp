@@ -165,12 +165,17 @@ TEST(CanonicalMap, InvariantsDoNotMoveUnderRotation) {
   EXPECT_LT((log_invariants(m, a) - log_invariants(rotated, b)).cwiseAbs().maxCoeff(), 0.01);
 }
 
+// The chain's own map (cMCF, no canonical relaxation): the start the relaxation tests step from.
+SphericalMapResult conformal_start(const Mesh& m) {
+  SphericalMapOptions o = map_options(MapMethod::Cmcf);
+  o.canonical.method = CanonicalMap::None;
+  return compute_spherical_map(m, o);
+}
+
 TEST(CanonicalMap, EveryStepKeepsTheMapBijective) {
   // A long thin shape whose conformal start starves its ends: many steps, many halvings; each accepted one bijective.
   const Mesh m = testing::make_ellipsoid(3.0, 0.5, 0.5, 3);
-  SphericalMapOptions o = map_options(MapMethod::Cmcf);
-  o.canonical.method = CanonicalMap::None;
-  const SphericalMapResult start = compute_spherical_map(m, o);
+  const SphericalMapResult start = conformal_start(m);
   ASSERT_TRUE(start.ok());
   Eigen::MatrixX3d u = start.sphere;
   CanonicalMapOptions c;
@@ -189,9 +194,7 @@ TEST(CanonicalMap, EveryStepKeepsTheMapBijective) {
 // an expired deadline stops it before the first step, with the start map untouched.
 TEST(CanonicalMap, StopsAtTheRequestDeadline) {
   const Mesh m = testing::make_ellipsoid(3.0, 0.5, 0.5, 3);
-  SphericalMapOptions o = map_options(MapMethod::Cmcf);
-  o.canonical.method = CanonicalMap::None;
-  const SphericalMapResult start = compute_spherical_map(m, o);
+  const SphericalMapResult start = conformal_start(m);
   ASSERT_TRUE(start.ok());
   Eigen::MatrixX3d u = start.sphere;
   const CanonicalMapReport r = spherical::relax_to_canonical_map(
