@@ -22,6 +22,7 @@
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"
 #include "core/classify/default_recipe.hpp"
+#include "core/pipeline/default_pipeline_options.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
@@ -36,17 +37,17 @@ namespace {
 
 using wire::json_number_or_nan;
 
-// The defaults are core's (PipelineOptions{}): the paper's Willmore map and the SH fit's own nu and Lmax.
+// The defaults are core's one default (default_pipeline_options(): the training recipe's map and fit, issue 37).
 struct DescribeOptions {
   std::vector<std::string> files;
   DescribeOverrides overrides;  // --method, --lmax, --steps
   bool json = false, csv = false;
-  FitWeighting weights = PipelineOptions{}.sh.weighting;
-  FitSolver solver = PipelineOptions{}.sh.solver;
-  std::string area_correction = "none";
-  std::string canonical = to_string(CanonicalMapOptions{}.method);
-  std::string sampling = to_string(ShFitOptions{}.sampling);
-  double regularization = PipelineOptions{}.sh.regularization;
+  FitWeighting weights = default_pipeline_options().sh.weighting;
+  FitSolver solver = default_pipeline_options().sh.solver;
+  std::string area_correction = to_string(default_pipeline_options().map.area_correction.method);
+  std::string canonical = to_string(default_pipeline_options().map.canonical.method);
+  std::string sampling = to_string(default_pipeline_options().sh.sampling);
+  double regularization = default_pipeline_options().sh.regularization;
   bool quiet = false;
   VolumeCliOptions volume;
 };
@@ -150,25 +151,23 @@ void print_table(const nlohmann::json& r, std::ostream& os) {
      << t["total"].get<double>() << "\n";
 }
 
-// Why describe's defaults are not train's (docs/accuracy.md, "Decision"), said where a user looks for it; train's
-// recipe is read from core (default_recipe.hpp), never restated here.
+// What the defaults are and how to get the paper's, said where a user looks for it; the recipe is read from core
+// (default_recipe.hpp), never restated here.
 std::string defaults_footer() {
-  const DescriptorRecipe train = default_training_recipe();
+  const PipelineOptions paper;  // the flow's and the fit's own defaults: the paper's
   std::ostringstream out;
-  out << "Defaults: the paper's map and the SH fit's own settings (willmore, nu 1e-5, Lmax 15): the smallest fit error and\n"
-         "the most faithful reconstruction (tests/sh/sh_fit_test.cpp). `wish train` defaults to the recipe chosen by\n"
-         "classification accuracy instead ("
-      << recipe_summary(train)
-      << "; docs/accuracy.md), whose smoother xi classify better but fit the surface less closely.\n"
-         "To describe as a model trained with the defaults does: --method "
-      << to_string(train.map.method) << " --canonical " << to_string(train.map.canonical.method) << " --lmax "
-      << train.sh.lmax << " --regularization " << train.sh.regularization << ".";
+  out << "Defaults: the recipe `wish train` uses when given no options (" << recipe_summary(default_training_recipe())
+      << "; chosen by classification accuracy, docs/accuracy.md), so a CSV of `wish describe --csv` trains as\n"
+         "`wish train` describes. The paper's map and the closest fit (the most faithful reconstruction, smoother xi\n"
+         "classify less well): --method "
+      << to_string(paper.map.method) << " --canonical " << to_string(paper.map.canonical.method) << " --lmax "
+      << paper.sh.lmax << " --regularization " << paper.sh.regularization << ".";
   return out.str();
 }
 
 CommandRunner setup_describe(CLI::App& sub) {
   auto options = std::make_shared<DescribeOptions>();
-  const PipelineOptions defaults;
+  const PipelineOptions defaults = default_pipeline_options();
   sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF, OME-Zarr store or .zip)")->required();
   sub.add_option("--lmax", options->overrides.lmax, "Maximum SH degree")
       ->check(CLI::Range(kShMinFitLmax, kShMaxFitLmax))->default_str(std::to_string(defaults.sh.lmax));
@@ -203,7 +202,7 @@ CommandRunner setup_describe(CLI::App& sub) {
   sub.footer(defaults_footer());
   return [options]() {
     check_overrides(options->overrides, "--steps");
-    PipelineOptions po;
+    PipelineOptions po = default_pipeline_options();
     apply_overrides(options->overrides, po);
     po.map.area_correction.method = area_correction_from_name(options->area_correction);
     po.map.canonical.method = canonical_map_from_name(options->canonical);

@@ -1,6 +1,9 @@
-// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear|progressive] [--steps N] [--json]` (methods: kMapMethodNames): conformal map of a closed
-// genus-0 mesh onto the unit sphere (paper §4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length
-// vertices) and prints the quality report; a map that fails verification is not written and exits with kExitInvalid.
+// `wish map FILE --out sphere.ply [--method willmore|cmcf|linear|progressive] [--steps N] [--canonical none|isometric]
+// [--json]` (methods: kMapMethodNames): the map of a closed genus-0 mesh onto the unit sphere that `wish describe`
+// computes its descriptor on — by default the one default chain (core/pipeline/default_pipeline_options.hpp: the
+// cMCF chain, then the canonical isometric relaxation); `--method willmore --canonical none` is the paper's conformal
+// map (§4). Writes the sphere mesh (the prepared mesh's connectivity, unit-length vertices) and prints the quality
+// report; a map that fails verification is not written and exits with kExitInvalid.
 #include <chrono>
 #include <iostream>
 #include <memory>
@@ -14,8 +17,10 @@
 #include "core/common/deadline.hpp"
 #include "core/common/stage_profile.hpp"
 #include "core/io/mesh_io.hpp"
+#include "core/pipeline/default_pipeline_options.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "core/spherical_map/canonical_map.hpp"
 #include "core/spherical_map/map_types.hpp"
 #include "core/spherical_map/spherical_map.hpp"
 #include "wire/wire_json.hpp"
@@ -29,6 +34,7 @@ struct MapArgs {
   std::string output;
   DescribeOverrides overrides;  // --method, --steps (the step cap of that method's flow); no lmax here
   std::string solver = "cholmod";
+  std::string canonical = to_string(default_pipeline_options().map.canonical.method);
   bool json = false;
   bool no_fallback = false;
   bool filtered = false;
@@ -74,6 +80,10 @@ void print_text(const SphericalMapResult& r, const PreparedMesh& prepared, const
             << "roundness  " << q.roundness << "  (before projection)\n"
             << "mobius     centroid " << q.mobius_centroid << " after " << q.mobius_iterations << " iteration(s)\n"
             << "time       " << r.seconds << " s\n";
+  if (r.canonical.method != CanonicalMap::None)
+    std::cout << "canonical  " << to_string(r.canonical.method) << ": " << to_string(r.canonical.stop) << " after "
+              << r.canonical.iterations << " step(s), energy " << r.canonical.energy_start << " -> " << r.canonical.energy
+              << ", " << r.canonical.seconds << " s\n";
   if (r.ok()) std::cout << "wrote      " << args.output << "\n";
 }
 
@@ -81,13 +91,17 @@ CommandRunner setup_map(CLI::App& sub) {
   auto args = std::make_shared<MapArgs>();
   sub.add_option("file", args->input, "Input mesh (OBJ, PLY, OFF, STL): closed, genus 0")->required();
   sub.add_option("--out,-o", args->output, "Sphere mesh to write (format from the extension)")->required();
-  const SphericalMapOptions defaults = PipelineOptions{}.map;  // the pipeline's, as `wish describe` shows
+  const SphericalMapOptions defaults = default_pipeline_options().map;  // the one default, as `wish describe`'s
   add_enum_option(sub, "--method", args->overrides.method, kMapMethodNames, defaults.method, "Spherical map method");
   sub.add_option("--steps", args->overrides.max_flow_steps,
                  "Step cap of the chosen method's flow (default: willmore " + std::to_string(defaults.willmore.max_steps) +
                      ", cmcf " + std::to_string(defaults.cmcf.max_steps) +
                      "; not for linear, a single solve; the fallback chain keeps its own caps)")
       ->check(CLI::PositiveNumber);
+  sub.add_option("--canonical", args->canonical,
+                 "The map written: isometric (the canonical map the descriptor uses, relaxed from whichever map the "
+                 "chain found, issue 37) | none (the chain's own conformal map, the paper's)")
+      ->check(CLI::IsMember({"none", "isometric"}))->capture_default_str();
   sub.add_option("--solver", args->solver, "cholmod (default) or eigen")->check(CLI::IsMember({"cholmod", "eigen"}));
   sub.add_flag("--filtered", args->filtered, "Low-pass filtered Willmore flow (noisy segmentation meshes)");
   sub.add_flag("--no-fallback", args->no_fallback, "Do not try more steps / other flows / the linear map / the progressive embedding (the last resort) on failure");
@@ -101,11 +115,12 @@ CommandRunner setup_map(CLI::App& sub) {
     }();
     // The pipeline's own first stages (map_mesh): the repairs, checks and chain `wish describe` runs, so that both
     // commands end on the same attempt for every mesh (issue 37).
-    PipelineOptions options;
+    PipelineOptions options = default_pipeline_options();
     apply_overrides(args->overrides, options);
     options.map.solver = args->solver == "eigen" ? LinearSolverKind::EigenSimplicial : LinearSolverKind::Cholmod;
     options.map.fallback = !args->no_fallback;
     options.map.willmore.filtered = args->filtered;
+    options.map.canonical.method = canonical_map_from_name(args->canonical);
     const Deadline deadline = args->timeout > 0 ? Deadline::after(std::chrono::duration<double>(args->timeout)) : Deadline{};
     const MappedMesh mapped = map_mesh(read.mesh, options, deadline);
     const PreparedMesh& prepared = mapped.prepared;
@@ -130,7 +145,7 @@ CommandRunner setup_map(CLI::App& sub) {
   };
 }
 
-const bool registered = register_command({"map", "Conformal map of a closed genus-0 mesh onto the unit sphere (Willmore flow)",
+const bool registered = register_command({"map", "Map of a closed genus-0 mesh onto the unit sphere (the descriptor's map; --method willmore --canonical none: the paper's)",
                                           &setup_map, 20});
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "server/compute_service.hpp"
 
 #include "core/pipeline/class_map.hpp"
+#include "core/pipeline/default_pipeline_options.hpp"
 #include "core/pipeline/describe_overrides.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/spherical_map/flow_step_cap.hpp"
@@ -62,9 +63,10 @@ void check_descriptor_settings(const ComputeParams& params, const LoadedModel& l
 
 namespace {
 
-// Reading limits, reconstruction and the JSON parts every job shares.
+// Reading limits, reconstruction and the JSON parts every job shares. A describe starts from the one default map and
+// fit (core/pipeline/default_pipeline_options.hpp); a classify replaces them by the model's recipe.
 PipelineOptions base_options(const ComputeJob& job, const ServerConfig& config) {
-  PipelineOptions options;
+  PipelineOptions options = default_pipeline_options();
   options.read.limits.max_bytes = config.max_upload_bytes;
   options.read.limits.max_vertices = config.max_vertices;
   options.read.limits.max_faces = config.max_faces;

@@ -54,6 +54,11 @@ def cut(items: list[str], shards: int) -> list[list[str]]:
     return [items[len(items) * i // k: len(items) * (i + 1) // k] for i in range(k)]
 
 
+def lmax_args(state):
+    """`wish describe --lmax` when the first run named one; otherwise describe's default (the training recipe's)."""
+    return "" if state.get("lmax") is None else f" --lmax {int(state['lmax'])}"
+
+
 def volume_args(state: dict) -> str:
     """`wish describe` options for OME-Zarr stores in the manifest (first run's; none when not given)."""
     out = ""
@@ -76,7 +81,7 @@ id=$(printf %04d "$SLURM_ARRAY_TASK_ID")
 mapfile -t meshes < "shards/$id.txt"
 echo "$(date -u +%FT%TZ) job ${{SLURM_ARRAY_JOB_ID:-?}} task $SLURM_ARRAY_TASK_ID on $(hostname -s)" >> "attempts/$id"
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-{wish} describe --csv --lmax {lmax}{volume_args} "${{meshes[@]}}" > "out/$id.csv.tmp" 2> "logs/shard-$id.err"
+{wish} describe --csv{lmax_args}{volume_args} "${{meshes[@]}}" > "out/$id.csv.tmp" 2> "logs/shard-$id.err"
 rc=$?
 if [[ $rc -eq 0 ]]; then
   mv "out/$id.csv.tmp" "out/$id.csv"
@@ -112,7 +117,7 @@ def submit(args: argparse.Namespace) -> int:
         state_path.write_text(json.dumps(state, indent=1) + "\n")
     (workdir / "shard.sh").write_text(SHARD_SCRIPT.format(workdir=shlex.quote(str(workdir)),
                                                           wish=shlex.quote(str(Path(wish).resolve())),
-                                                          lmax=int(state["lmax"]),
+                                                          lmax_args=lmax_args(state),
                                                           volume_args=volume_args(state)))
     todo = [i for i in range(shards) if not (workdir / "out" / f"{shard_name(i)}.csv").exists()]
     if not todo:
@@ -215,7 +220,8 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--workdir", required=True, help="run folder, on a file system the nodes share")
     s.add_argument("--shards", type=int, default=10, help="array tasks (first run only; default 10)")
     s.add_argument("--wish", default="wish", help="the wish executable on the nodes (default: wish on PATH)")
-    s.add_argument("--lmax", type=int, default=15, help="wish describe --lmax (first run only; default 15)")
+    s.add_argument("--lmax", type=int, default=None,
+                   help="wish describe --lmax (first run only; default: describe's own, the training recipe's)")
     s.add_argument("--label-image", default=None,
                    help="OME-Zarr stores in the manifest: the label image labels/NAME (first run only; default: first)")
     s.add_argument("--level", type=int, default=0, help="OME-Zarr stores: multiscale level (first run only; default 0)")
