@@ -12,7 +12,7 @@ DescriptorRecipe default_training_recipe() {
   recipe.sh.lmax = 10;
   recipe.sh.regularization = 1e-1;
   recipe.sh.weighting = FitWeighting::Area;
-  recipe.sh.sampling = FitSampling::Vertices;
+  recipe.sh.sampling = FitSampling::Surface;
   recipe.features.family = FeatureFamily::Combined;
   recipe.features.l_min = 1;
   recipe.features.l_max = recipe.sh.lmax;
