@@ -76,7 +76,10 @@ class DefaultContainerTest(unittest.TestCase):
         self.assertEqual(model_name(r.model), DEFAULT_MODEL_NAME)
         self.assertIn(r.label, r.probabilities)
         self.assertAlmostEqual(sum(r.probabilities.values()), 1.0, places=6)
-        self.assertEqual(r.label, max(r.probabilities, key=r.probabilities.get))
+        # Not asserted: label == the class of highest probability. The label is libsvm's one-against-one vote
+        # winner and the probabilities its pairwise coupling (Wu, Lin, Weng 2004); on an ambiguous input such as this
+        # perfect sphere (no class of the synthetic model) the two can differ (proto/openapi.json Prediction.label).
+        self.assertGreater(r.probabilities[r.label], 0.0)
 
     def test_healthcheck_reports_healthy(self) -> None:
         def health() -> dict:
