@@ -4,7 +4,8 @@
     python3 bench/map_describe_agreement.py build/release/cli/wish FILE_LIST
 
 FILE_LIST: one mesh path per line. Prints one row per mesh: same|DIFF, the method of `wish map --json`, the map
-method of `wish describe --json` (or the error code each refused with), the file; then the count of each.
+method of `wish describe --json` (or the error code each refused with), and when the default canonical map ran, its
+energy in each (the same relaxation from the same start gives the same energy), the file; then the count of each.
 """
 import json
 import subprocess
@@ -37,16 +38,21 @@ def main():
             m, m_err = run(wish, ["map", f, "--out", sphere, "--json"])
             d, d_err = run(wish, ["describe", f, "--json", "--quiet"])
             map_method = m["method"] if m else "error:" + error_code(m_err)
+            map_energy = (m or {}).get("canonical", {}).get("energy")
             row = d[0] if isinstance(d, list) and d else {}
+            describe_energy = None
             if "map" in row:
                 describe_method = row["map"]["method"]
+                describe_energy = row["map"].get("canonical", {}).get("energy")
             elif "error" in row:
                 describe_method = "error:" + row["error"]["code"]
             else:
                 describe_method = "error:" + error_code(d_err)
-            verdict = "same" if map_method == describe_method else "DIFF"
+            same_energy = (map_energy == describe_energy or (map_energy is not None and describe_energy is not None
+                           and abs(map_energy - describe_energy) <= 1e-9 * abs(describe_energy)))
+            verdict = "same" if map_method == describe_method and same_energy else "DIFF"
             counts[verdict] += 1
-            print(f"{verdict}\t{map_method}\t{describe_method}\t{f}", flush=True)
+            print(f"{verdict}\t{map_method}\t{describe_method}\t{map_energy}\t{describe_energy}\t{f}", flush=True)
     print(f"same {counts['same']}, different {counts['DIFF']} of {len(files)}")
     return 0 if counts["DIFF"] == 0 else 1
 
