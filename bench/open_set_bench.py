@@ -466,10 +466,11 @@ def open_set(X, y, names, args, rows=None):
             for n in fs:
                 scores[n][te] = fs[n]
             if args.ceiling:
-                sc2 = StandardScaler().fit(X[tr])
+                Xc = X if not args.ceiling_family else family(rows, args.ceiling_family)
+                sc2 = StandardScaler().fit(Xc[tr])
                 t = (y[tr] == left).astype(int)
-                svm = fit_svm(sc2.transform(X[tr]), t, args.seed + f, probability=False)
-                scores["ceiling"][te] = svm.decision_function(sc2.transform(X[te])) * (1 if svm.classes_[1] == 1 else -1)
+                svm = fit_svm(sc2.transform(Xc[tr]), t, args.seed + f, probability=False)
+                scores["ceiling"][te] = svm.decision_function(sc2.transform(Xc[te])) * (1 if svm.classes_[1] == 1 else -1)
             tested[te] = True
         u = y == left
         row = [left, int(u.sum())]
@@ -505,6 +506,8 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--max-per-class", type=int, default=0)
     ap.add_argument("--ceiling", action="store_true")
+    ap.add_argument("--ceiling-family", default="", help="the ceiling's features (default: the row's family); a "
+                    "score on other features (@fam) is fairly compared with the ceiling on the union of both")
     ap.add_argument("--per-class", action="store_true", help="also print every left-out class's row")
     args = ap.parse_args()
     names = args.scores.split(",")
