@@ -281,6 +281,14 @@ NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<c
     NoveltyAssessment out = per_group.at(static_cast<std::size_t>(std::max(nearest, 0)));
     out.threshold = unit * novelty_median(c, out.group);
     out.novel = out.score > out.threshold;
+    // Why: per class the score over THIS rule's threshold of the class (unit x its median), so the reported class
+    // has the smallest ratio and novel == (its ratio > 1), as for the other rules.
+    for (int g = 0; g < group_count(c); ++g) {
+      auto& r = ratios[static_cast<std::size_t>(g)];
+      if (rows_of_group(c, g).empty()) continue;  // stays infinite
+      const double t = unit * novelty_median(c, g), s = per_group[static_cast<std::size_t>(g)].score;
+      r = t > 0 ? s / t : (s > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    }
     out.class_ratios = std::move(ratios);
     return out;
   }

@@ -115,7 +115,8 @@ struct NoveltyAssessment {
                          // initialisers of the first five fields keep their meaning
   // Why (issue 38 item 3): per group (model class order), the sample's score divided by that class's threshold —
   // its distance in units of the class's own calibration spread (1 = at the class's quantile; novel when every
-  // entry is above 1). The reported group has the smallest.
+  // entry is above 1). The reported group has the smallest. MedianScale: over that rule's threshold of each class
+  // (the pooled unit threshold times the class's median), so novel iff the reported class's ratio is above 1.
   std::vector<double> class_ratios;
 };
 

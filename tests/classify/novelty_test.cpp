@@ -446,9 +446,13 @@ TEST(Novelty, MedianScaleRuleByHand) {
   EXPECT_EQ(in1.group, 1);
   EXPECT_NEAR(in1.threshold, 0.1, 1e-9);
   EXPECT_FALSE(in1.novel);
-  // The why figures stay the nearest-class ones: score / that class's own quantile threshold, per class.
+  // Why: per class the score over this rule's threshold of that class (unit x median): 0.05 / 0.1 for class 1,
+  // 970.55 / 1 for class 0 (its nearest member: the straggler at 30); the reported class has the smallest, novel
+  // iff it is above 1.
   ASSERT_EQ(in1.class_ratios.size(), 2u);
-  EXPECT_NEAR(in1.class_ratios[1], 0.05 / novelty_threshold(c, 0.9, 1), 1e-9);
+  EXPECT_NEAR(in1.class_ratios[1], 0.5, 1e-6);
+  EXPECT_NEAR(in1.class_ratios[0], 1000.55 - 30, 1e-6);
+  EXPECT_NEAR(far.class_ratios[0], 6.0, 1e-9);
 }
 
 // Whatever the data: a point far from every class scores above every training member and is novel; the figure
@@ -471,6 +475,8 @@ TEST(Novelty, MedianScaleFarPointAndRowOrder) {
   const Eigen::VectorXd far = Eigen::VectorXd::Constant(p, 60.0);
   const NoveltyAssessment af = assess_novelty(c, far);
   EXPECT_TRUE(af.novel);
+  EXPECT_EQ(af.class_ratios[static_cast<std::size_t>(af.group)], *std::min_element(af.class_ratios.begin(), af.class_ratios.end()));
+  EXPECT_GT(af.class_ratios[static_cast<std::size_t>(af.group)], 1.0);
   const double far_units = af.score / novelty_median(c, af.group);
   for (int i = 0; i < X.rows(); ++i) {
     const NoveltyAssessment a = assess_novelty(c, X.row(i).transpose());
