@@ -127,8 +127,8 @@ def knn_mean(D, k):
 
 
 class KnnScore:
-    def __init__(self, Z, y, k=3, q=0.99):
-        self.W, _ = shrunk_whitening(residuals(Z, y))
+    def __init__(self, Z, y, k=3, q=0.99, min_shrinkage=0.5):
+        self.W, _ = shrunk_whitening(residuals(Z, y), min_shrinkage)
         self.cls = np.unique(y)
         self.refs = []
         for c in self.cls:
@@ -191,6 +191,104 @@ class GaussScore:
         return self._dist(self.models, P) / self.scale
 
 
+class KnnScale:
+    """k-NN distance (whitened by the pooled within-class covariance, as KnnScore) to each class, in units of that
+    class's OWN typical k-NN distance: the median of its members' leave-one-out k-NN distances (not a tail
+    quantile, which a few stragglers move)."""
+
+    def __init__(self, Z, y, k=3):
+        self.W, _ = shrunk_whitening(residuals(Z, y))
+        self.refs = []
+        for c in np.unique(y):
+            A = Z[y == c] @ self.W
+            kc = max(1, min(k, len(A) - 1))
+            D = np.linalg.norm(A[:, None] - A[None], axis=2)
+            np.fill_diagonal(D, np.inf)
+            t = np.median(knn_mean(D, kc)) if len(A) > 1 else np.nan
+            self.refs.append((A, kc, t))
+        ts = [t for _, _, t in self.refs if np.isfinite(t) and t > 0]
+        self.refs = [(A, kc, t if np.isfinite(t) and t > 0 else max(ts)) for A, kc, t in self.refs]
+
+    def ratios(self, P):
+        P = P @ self.W
+        return np.array([knn_mean(np.linalg.norm(P[:, None] - A[None], axis=2), kc) / t for A, kc, t in self.refs]).T
+
+
+class KnnAll:
+    """k-NN distance to the whole known training set, whitened by the pooled within-class covariance (no classes)."""
+
+    def __init__(self, Z, y, k=1):
+        self.W, _ = shrunk_whitening(residuals(Z, y))
+        self.A = Z @ self.W
+        self.k = k
+
+    def score(self, P):
+        return knn_mean(np.linalg.norm((P @ self.W)[:, None] - self.A[None], axis=2), self.k)
+
+
+class LwScore:
+    """Per class: Mahalanobis distance to the class mean with the class's OWN covariance, Ledoit-Wolf shrunk
+    (sklearn.covariance.LedoitWolf, towards mu I); pooled: one pooled within-class covariance (Lee et al. 2018)."""
+
+    def __init__(self, Z, y, pooled=False):
+        from sklearn.covariance import LedoitWolf
+        self.models = []
+        R = residuals(Z, y)
+        Wp = None
+        if pooled:
+            C = LedoitWolf(assume_centered=True).fit(R).covariance_
+            ev, V = np.linalg.eigh(C)
+            Wp = V @ np.diag(np.maximum(ev, 1e-12 * ev.max()) ** -0.5) @ V.T
+        for c in np.unique(y):
+            A = Z[y == c]
+            if pooled or len(A) < 3:
+                W = Wp if Wp is not None else shrunk_whitening(R)[0]
+            else:
+                C = LedoitWolf().fit(A).covariance_
+                ev, V = np.linalg.eigh(C)
+                W = V @ np.diag(np.maximum(ev, 1e-12 * ev.max()) ** -0.5) @ V.T
+            self.models.append((A.mean(0), W))
+
+    def dist(self, P):
+        return np.array([np.linalg.norm((P - m) @ W, axis=1) for m, W in self.models]).T
+
+
+class FeatMax:
+    """Per class, the largest feature-wise deviation from the class median in units of the class's spread of that
+    feature (its MAD * 1.4826, floored at a quarter of the pooled within-class one); the minimum over the classes."""
+
+    def __init__(self, Z, y):
+        R = residuals(Z, y)
+        pooled = 1.4826 * np.median(np.abs(R - np.median(R, 0)), 0) + 1e-9
+        self.models = []
+        for c in np.unique(y):
+            A = Z[y == c]
+            med = np.median(A, 0)
+            mad = 1.4826 * np.median(np.abs(A - med), 0)
+            self.models.append((med, np.maximum(mad, 0.25 * pooled)))
+
+    def dist(self, P):
+        return np.array([np.max(np.abs(P - m) / s, axis=1) for m, s in self.models]).T
+
+
+def svm_free_scores(Ztr, ytr, P):
+    """The scores that need no SVM (cheap enough to re-fit inside the training rows for calibration)."""
+    out = {}
+    kr = KnnScore(Ztr, ytr, q=0.99).ratios(P)
+    out["knn_min"] = kr.min(1)
+    ks = KnnScale(Ztr, ytr).ratios(P)
+    out["knnscale_min"] = ks.min(1)
+    out["knn1_all"] = KnnAll(Ztr, ytr, k=1).score(P)
+    out["knn3_all"] = KnnAll(Ztr, ytr, k=3).score(P)
+    out["lw_min"] = LwScore(Ztr, ytr).dist(P).min(1)
+    out["pooled_min"] = LwScore(Ztr, ytr, pooled=True).dist(P).min(1)
+    out["knnlw_min"] = KnnScore(Ztr, ytr, q=0.99, min_shrinkage=0.0).ratios(P).min(1)
+    out["featmax_min"] = FeatMax(Ztr, ytr).dist(P).min(1)
+    from sklearn.ensemble import IsolationForest
+    out["iforest"] = -IsolationForest(n_estimators=200, random_state=0).fit(Ztr).score_samples(P)
+    return out
+
+
 def fit_svm(Z, y, seed=0, probability=True, inner=3):
     d = Z.shape[1]
     nmin = min(np.bincount(np.unique(y, return_inverse=True)[1]))
@@ -218,9 +316,87 @@ def conformal_p(cal, s):
     return (1 + len(cal) - np.searchsorted(cal, s, side="left")) / (len(cal) + 1)
 
 
-def fold_scores(Ztr, ytr, P, names, seed):
+OLD_SCORES = {"knn_min", "knn_pred", "gauss_min", "gauss_pred", "maxprob", "margin", "knn_gauss", "combo"}
+SVM_FREE = {"knn_min", "knnscale_min", "knn1_all", "knn3_all", "lw_min", "pooled_min", "knnlw_min", "featmax_min", "iforest"}
+PRED = {"knnscale_pred", "lw_pred"}
+
+
+def parse_score(name):
+    """NAME[@family][~robust] -> (NAME, family or None, scaler). rank:A+B+... combines SVM-free scores."""
+    scaler = "standard"
+    if name.endswith("~robust"):
+        name, scaler = name[: -len("~robust")], "robust"
+    fam = None
+    if "@" in name and not name.startswith("rank:"):
+        name, fam = name.split("@")
+    return name, fam, scaler
+
+
+def transformed(rows, X_main, fam, scaler, fit_idx, apply_idx, cache):
+    key = (fam, scaler)
+    if key not in cache:
+        cache[key] = X_main if fam is None else family(rows, fam)
+    X = cache[key]
+    from sklearn.preprocessing import RobustScaler
+    sc = (RobustScaler() if scaler == "robust" else StandardScaler()).fit(X[fit_idx])
+    return sc.transform(X[fit_idx]), sc.transform(X[apply_idx])
+
+
+def extra_fold_scores(rows, X_main, y, ktr, te, names, pi, seed, xcache, inner=5):
+    """The new scores (issue 38, second pass) of the test rows te, fitted on the known training rows ktr only.
+    pi: the main family's SVM prediction (class index into np.unique(y[ktr])) for every test row.
+    rank:A+B+...: each component's conformal rank against its own scores of known training rows held out in `inner`
+    stratified folds inside ktr (fitted on the other inner folds), averaged; larger = more novel."""
+    out = {}
+    free_cache, cal_cache = {}, {}
+    ytr = y[ktr]
+    rr = np.arange(len(te))
+
+    def free(fam, scaler):
+        if (fam, scaler) not in free_cache:
+            Ztr, P = transformed(rows, X_main, fam, scaler, ktr, te, xcache)
+            free_cache[(fam, scaler)] = svm_free_scores(Ztr, ytr, P)
+        return free_cache[(fam, scaler)]
+
+    def cal(fam, scaler):
+        if (fam, scaler) not in cal_cache:
+            acc = {}
+            for itr, ite in StratifiedKFold(inner, shuffle=True, random_state=seed).split(ktr, ytr):
+                Ztr, P = transformed(rows, X_main, fam, scaler, ktr[itr], ktr[ite], xcache)
+                for k, v in svm_free_scores(Ztr, ytr[itr], P).items():
+                    acc.setdefault(k, []).extend(v)
+            cal_cache[(fam, scaler)] = {k: np.array(v) for k, v in acc.items()}
+        return cal_cache[(fam, scaler)]
+
+    for n in names:
+        if n.startswith("rank:"):
+            ranks = []
+            for comp in n[len("rank:"):].split("+"):
+                b, fam, scaler = parse_score(comp)
+                ranks.append(1 - conformal_p(cal(fam, scaler)[b], free(fam, scaler)[b]))
+            out[n] = np.mean(ranks, axis=0)
+            continue
+        b, fam, scaler = parse_score(n)
+        if b in SVM_FREE and (fam is not None or scaler != "standard" or b not in OLD_SCORES):
+            out[n] = free(fam, scaler)[b]
+        elif b in PRED or (b in ("knn_pred", "gauss_pred") and (fam is not None or scaler != "standard")):
+            Ztr, P = transformed(rows, X_main, fam, scaler, ktr, te, xcache)
+            if b == "knnscale_pred":
+                out[n] = KnnScale(Ztr, ytr).ratios(P)[rr, pi]
+            elif b == "lw_pred":
+                out[n] = LwScore(Ztr, ytr).dist(P)[rr, pi]
+            elif b == "knn_pred":
+                out[n] = KnnScore(Ztr, ytr).ratios(P)[rr, pi]
+            else:
+                out[n] = GaussScore(Ztr, ytr, seed=seed).ratios(P)[rr, pi]
+    return out
+
+
+def fold_scores(Ztr, ytr, P, names, seed, need_pred=False):
     """Every requested score of the rows P, from the known training rows (Ztr, ytr)."""
     out = {}
+    if not names and not need_pred:
+        return out
     svm = fit_svm(Ztr, ytr, seed)
     prob, margin, pred = svm_outputs(svm, P)
     cls = list(svm.classes_)
@@ -259,7 +435,9 @@ def fold_scores(Ztr, ytr, P, names, seed):
         pg = conformal_p(np.array(cal_g), out["gauss_pred"])
         pp = conformal_p(np.array(cal_p), out["maxprob"])
         out["combo"] = -np.log(np.minimum(pg, pp))
-    return {n: out[n] for n in names + [k for k in out if k.startswith("flag95")]}
+    res = {n: out[n] for n in names + [k for k in out if k.startswith("flag95")]}
+    res["_pred_index"] = pi
+    return res
 
 
 def detection(known, unseen, fpr):
@@ -267,8 +445,11 @@ def detection(known, unseen, fpr):
     return 100 * (unseen > t).mean()
 
 
-def open_set(X, y, names, args):
+def open_set(X, y, names, args, rows=None):
     labels = np.unique(y)
+    old = [n for n in names if n in OLD_SCORES]
+    extra = [n for n in names if n not in OLD_SCORES]
+    xcache = {}
     res = {n: [] for n in names + ["ceiling"]}
     per_class = []
     for left in labels:
@@ -278,14 +459,18 @@ def open_set(X, y, names, args):
             ktr = tr[y[tr] != left]
             sc = StandardScaler().fit(X[ktr])
             Ztr, P = sc.transform(X[ktr]), sc.transform(X[te])
-            fs = fold_scores(Ztr, y[ktr], P, names, args.seed + f)
+            fs = fold_scores(Ztr, y[ktr], P, old, args.seed + f, need_pred=bool(extra))
+            pi = fs.pop("_pred_index", None)
+            if extra:
+                fs.update(extra_fold_scores(rows, X, y, ktr, te, extra, pi, args.seed + f, xcache))
             for n in fs:
                 scores[n][te] = fs[n]
             if args.ceiling:
-                sc2 = StandardScaler().fit(X[tr])
+                Xc = X if not args.ceiling_family else family(rows, args.ceiling_family)
+                sc2 = StandardScaler().fit(Xc[tr])
                 t = (y[tr] == left).astype(int)
-                svm = fit_svm(sc2.transform(X[tr]), t, args.seed + f, probability=False)
-                scores["ceiling"][te] = svm.decision_function(sc2.transform(X[te])) * (1 if svm.classes_[1] == 1 else -1)
+                svm = fit_svm(sc2.transform(Xc[tr]), t, args.seed + f, probability=False)
+                scores["ceiling"][te] = svm.decision_function(sc2.transform(Xc[te])) * (1 if svm.classes_[1] == 1 else -1)
             tested[te] = True
         u = y == left
         row = [left, int(u.sum())]
@@ -321,6 +506,8 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--max-per-class", type=int, default=0)
     ap.add_argument("--ceiling", action="store_true")
+    ap.add_argument("--ceiling-family", default="", help="the ceiling's features (default: the row's family); a "
+                    "score on other features (@fam) is fairly compared with the ceiling on the union of both")
     ap.add_argument("--per-class", action="store_true", help="also print every left-out class's row")
     args = ap.parse_args()
     names = args.scores.split(",")
@@ -348,7 +535,7 @@ def main():
                 X = family(rows, fam)
                 if X is None:
                     continue
-                res, per_class = open_set(X, y, names, args)
+                res, per_class = open_set(X, y, names, args, rows)
                 mean = {n: np.mean(v, axis=0) for n, v in res.items() if v}
                 cells = ["%.1f / %.0f / %.0f" % tuple(mean[n]) for n in cols]
                 line = f"| {path.split('/')[-1]} {fam} | " + " | ".join(cells) + " |"

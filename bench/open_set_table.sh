@@ -9,7 +9,8 @@
 # env: BUILD (build/release), SETS (demo rawmc urocell hard), CAP (40: at most this many meshes per class, evenly
 #      spaced over the sorted file list), DEMO_PER_CLASS (40), HARD_PER_CLASS (8), LMAX (10), SPECTRUM (30),
 #      FAMILIES (xi,global,combined,lb,lb_global,csh,csh_global,xi_lb_global),
-#      OPEN_FAMILIES (combined,lb_global,xi_lb_global), WISH_SHARED_DATA (../shared/data), JOBS (1)
+#      OPEN_FAMILIES (combined,lb_global,xi_lb_global), WISH_SHARED_DATA (../shared/data), JOBS (1),
+#      TABLES (1; 0: describe only, e.g. to describe sets in parallel runs and tabulate them together later)
 # Sets (made here when missing, deterministic): demo `wish demo-data --per-class DEMO_PER_CLASS --seed 2`;
 # rawmc ../shared/data/urocell_raw_mc; urocell bench/make_urocell_meshes.sh with FV_VOLUMES=1; hard
 # bench/hard_shapes_labelled --per-class HARD_PER_CLASS --seed 1 (slow: minutes per octopus).
@@ -63,6 +64,7 @@ for set in $sets; do
       --jobs "${JOBS:-1}" --out "$work/$set-model.json" > "$work/$set.out" 2> "$work/$set.err" || true
   [[ -s $work/$set.csv ]] && csvs+=("$work/$set.csv")
 done
+[[ ${TABLES:-1} == 1 ]] || exit 0
 {
   echo "## nested-CV accuracy (%) by feature family"
   nice -n 10 /usr/bin/python3 bench/open_set_bench.py "${csvs[@]}" --mode accuracy --families "$families"

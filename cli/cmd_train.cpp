@@ -151,7 +151,8 @@ CommandRunner setup_train(CLI::App& sub) {
       ->check(CLI::Range(0.5, 0.999999))->capture_default_str();
   add_enum_option(sub, "--novelty-rule", o->novelty_rule, kNoveltyRuleNames,
                   "Which class's threshold flags a sample novel: every class's (nearest_class, model format 5/6) or the "
-                  "class the SVM predicts (predicted_class, format 7); docs/benchmarks.md \"Novelty, issue 38\"");
+                  "class the SVM predicts (predicted_class, format 7), or the nearest class in units of its median calibration "
+                  "distance against one pooled threshold (median_scale, format 8); docs/accuracy.md \"Issue 38\"");
   sub.add_option("--novelty-folds", o->novelty_folds,
                  "Novelty calibration scores: 0 leave-one-out (model format 5), N >= 2 N-fold cross-validated (format 6: "
                  "the quantile's false-flag rate holds more closely, fewer new types flagged; docs/benchmarks.md \"Novelty\")")

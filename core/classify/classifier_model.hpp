@@ -85,7 +85,7 @@ class ClassifierModel {
   // 7: payload.novelty.rule = "predicted_class" (novelty.hpp NoveltyRule: the class the SVM predicts decides;
   // issue 38); calibration_folds and whitening as format 6 (each only when used). Models with the nearest-class
   // rule are written as before (5 or 6).
-  static constexpr int kFormatVersion = 7;
+  static constexpr int kFormatVersion = 8;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,
   // a truncated or edited file, or inconsistent sizes.

@@ -284,6 +284,7 @@ json payload_without_novelty(const ClassifierModel::State& s);
 //  format 5: format 4's keys and whitening: [[...] per feature] (the symmetric matrix W of novelty.hpp).
 //  format 6: format 5's keys and calibration_folds (>= 2: loo_scores are cross-validated scores, novelty.hpp).
 //  format 7: format 6's keys and rule: "predicted_class" (novelty.hpp NoveltyRule; written only for that rule).
+//  format 8: the same keys; rule may also be "median_scale" (issue 38; a format-7 reader refuses the file by number).
 //            A format-6 block without whitening (a Euclidean figure, cross-validated) is written as 6 too.
 // Each format's keys are exactly its own: a format-3 reader meets reference_classes and refuses the file by it
 // (model_version), and this build reads a format-3 block as the one-set figure it was written as.
@@ -329,6 +330,9 @@ NoveltyCalibration novelty_from_json(const json& j, Eigen::Index n_features, int
     if (with_rule && j.contains("rule")) {
       const std::string rule = str(j, "rule", "novelty");
       if (rule == to_string(NoveltyRule::PredictedClass)) c.rule = NoveltyRule::PredictedClass;
+      else if (rule == to_string(NoveltyRule::MedianScale) && version >= 8) c.rule = NoveltyRule::MedianScale;
+      else if (rule == to_string(NoveltyRule::MedianScale))
+        throw InvalidInputError("model_version", "payload.novelty.rule 'median_scale' needs format_version 8, the file says " + std::to_string(version));
       else if (rule != to_string(NoveltyRule::NearestClass)) invalid("novelty.rule '" + rule + "' is unknown");
     }
     // Format 7 writes calibration_folds only for cross-validated scores.
@@ -457,6 +461,7 @@ json document_of(const ClassifierModel::State& s) {
   // readers of older versions refuse it by number and a model without novelty stays readable by version 2.
   const int version = !s.novelty                        ? 2
                       : !s.novelty->per_class            ? 3
+                      : s.novelty->rule == NoveltyRule::MedianScale ? 8
                       : s.novelty->rule != NoveltyRule::NearestClass ? 7
                       : s.novelty->calibration_folds > 0 ? 6
                       : s.novelty->whitening.size() == 0 ? 4

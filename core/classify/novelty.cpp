@@ -197,6 +197,29 @@ double novelty_threshold(const NoveltyCalibration& c, double quantile, int group
   return widest;
 }
 
+double novelty_median(const NoveltyCalibration& c, int group) {
+  const auto& s = c.loo_scores.at(static_cast<std::size_t>(group));
+  if (!s.empty()) return quantile_of(s, 0.5);
+  double widest = 0;  // a class of one training sample: the widest class's typical distance
+  for (const auto& other : c.loo_scores)
+    if (!other.empty()) widest = std::max(widest, quantile_of(other, 0.5));
+  return widest;
+}
+
+double novelty_pooled_unit_threshold(const NoveltyCalibration& c, double quantile) {
+  check_quantile(quantile);
+  std::vector<double> units;
+  for (const auto& s : c.loo_scores) {
+    if (s.empty()) continue;
+    const double m = quantile_of(s, 0.5);
+    if (!(m > 0)) continue;  // identical members: no unit
+    for (double v : s) units.push_back(v / m);
+  }
+  if (units.empty()) return 0;
+  std::sort(units.begin(), units.end());
+  return quantile_of(units, quantile);
+}
+
 NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<const Eigen::VectorXd>& x, double quantile,
                                  int predicted_group) {
   const double q = quantile > 0 ? quantile : c.quantile;
@@ -237,6 +260,37 @@ NoveltyAssessment assess_novelty(const NoveltyCalibration& c, const Eigen::Ref<c
     if (best < 0 || ratios[gi] < ratios[static_cast<std::size_t>(best)] ||
         (ratios[gi] == ratios[static_cast<std::size_t>(best)] && per_group[gi].p_value > per_group[static_cast<std::size_t>(best)].p_value))
       best = g;
+  }
+  if (c.rule == NoveltyRule::MedianScale) {
+    // Per class the score over the class's median calibration score; the smallest decides against one pooled
+    // threshold in those units (novelty.hpp). Reported threshold: that unit threshold times the class's median,
+    // so novel == (score > threshold) still holds for the reported class.
+    const double unit = novelty_pooled_unit_threshold(c, q);
+    int nearest = -1;
+    double nearest_units = 0;
+    for (int g = 0; g < group_count(c); ++g) {
+      if (rows_of_group(c, g).empty()) continue;
+      const double m = novelty_median(c, g);
+      const double s = per_group[static_cast<std::size_t>(g)].score;
+      const double units = m > 0 ? s / m : (s > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+      if (nearest < 0 || units < nearest_units) {
+        nearest = g;
+        nearest_units = units;
+      }
+    }
+    NoveltyAssessment out = per_group.at(static_cast<std::size_t>(std::max(nearest, 0)));
+    out.threshold = unit * novelty_median(c, out.group);
+    out.novel = out.score > out.threshold;
+    // Why: per class the score over THIS rule's threshold of the class (unit x its median), so the reported class
+    // has the smallest ratio and novel == (its ratio > 1), as for the other rules.
+    for (int g = 0; g < group_count(c); ++g) {
+      auto& r = ratios[static_cast<std::size_t>(g)];
+      if (rows_of_group(c, g).empty()) continue;  // stays infinite
+      const double t = unit * novelty_median(c, g), s = per_group[static_cast<std::size_t>(g)].score;
+      r = t > 0 ? s / t : (s > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    }
+    out.class_ratios = std::move(ratios);
+    return out;
   }
   if (c.rule == NoveltyRule::PredictedClass && predicted_group >= 0 && predicted_group < group_count(c) &&
       !rows_of_group(c, predicted_group).empty())

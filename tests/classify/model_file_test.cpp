@@ -627,3 +627,31 @@ TEST(ModelFile, PredictedClassNoveltyRuleIsVersion7AndSaysWhy) {
 
 }  // namespace
 }  // namespace wish
+
+namespace wish {
+namespace {
+
+// Issue 38, second pass: the median_scale rule is format 8; a format-7 reader refuses it by number.
+TEST(ModelFile, MedianScaleNoveltyRuleIsVersion8) {
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  opts.novelty_rule = NoveltyRule::MedianScale;
+  const ClassifierModel model = train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+  const auto doc = nlohmann::json::parse(model.to_json_text());
+  EXPECT_EQ(doc["format_version"], 8);
+  EXPECT_EQ(doc["payload"]["novelty"]["rule"], "median_scale");
+  const ClassifierModel loaded = ClassifierModel::from_json_text(doc.dump());
+  EXPECT_EQ(loaded.novelty_calibration()->rule, NoveltyRule::MedianScale);
+  EXPECT_EQ(loaded.to_json_text(), model.to_json_text());
+  for (const auto& s : testing::synthetic_samples(3, 4, 5)) {
+    const Prediction p = loaded.predict(s.features);
+    ASSERT_TRUE(p.novelty);
+    EXPECT_EQ(p.novelty->novel, p.novelty->score > p.novelty->threshold);
+  }
+  auto d = doc;
+  d["format_version"] = 7;
+  expect_refused(reseal(d), "model_version", "median_scale");
+}
+
+}  // namespace
+}  // namespace wish

@@ -403,3 +403,107 @@ TEST(Novelty, CrossValidatedThresholdHoldsTheFalseFlagRate) {
 
 }  // namespace
 }  // namespace wish
+
+namespace wish {
+namespace {
+
+// Issue 38, second pass: the median_scale rule (format 8) by hand. Class 0: 0, 1, ..., 9 and a straggler at 30
+// (k = 1 leave-one-out scores: ten 1s and 21; median 1); class 1: 1000, 1000.1, ..., 1001 (eleven 0.1s; median
+// 0.1). In units of each class's median the pooled calibration scores are twenty-one 1s and one 21, so at q = 0.9
+// the unit threshold is 1 (numpy's linear quantile: position 18.9 of 0..21).
+TEST(Novelty, MedianScaleRuleByHand) {
+  Eigen::MatrixXd X(22, 1);
+  std::vector<int> y;
+  for (int i = 0; i < 10; ++i) { X(i, 0) = i; y.push_back(0); }
+  X(10, 0) = 30;
+  y.push_back(0);
+  for (int i = 0; i < 11; ++i) { X(11 + i, 0) = 1000 + 0.1 * i; y.push_back(1); }
+  NoveltyCalibration c = calibrate_novelty(X, y, 1, 0.9, NoveltyDistance::Euclidean);
+  c.rule = NoveltyRule::MedianScale;
+  EXPECT_NEAR(novelty_median(c, 0), 1.0, 1e-12);
+  EXPECT_NEAR(novelty_median(c, 1), 0.1, 1e-9);
+  EXPECT_NEAR(novelty_pooled_unit_threshold(c, 0.9), 1.0, 1e-9);
+  EXPECT_NEAR(novelty_pooled_unit_threshold(c, 0.99), 1.0 + 0.79 * 20, 1e-9);  // position 20.79
+  // 15: 6 from class 0 (6 of its typical distances), far from class 1: reported class 0, threshold 1 x 1, novel.
+  const NoveltyAssessment far = assess_novelty(c, Eigen::VectorXd::Constant(1, 15.0));
+  EXPECT_EQ(far.group, 0);
+  EXPECT_NEAR(far.score, 6.0, 1e-12);
+  EXPECT_NEAR(far.threshold, 1.0, 1e-9);
+  EXPECT_TRUE(far.novel);
+  // At 0.95 the straggler lifts class 0's own quantile to 11 (position 9.5 of its 11 scores), so the nearest-class
+  // rule does not flag 15; the pooled unit threshold stays 1 (position 19.95 of 22, still among the 1s): one
+  // straggler in 22 calibration scores does not move it, and median_scale flags 15.
+  EXPECT_NEAR(novelty_pooled_unit_threshold(c, 0.95), 1.0, 1e-9);
+  NoveltyCalibration nearest = c;
+  nearest.rule = NoveltyRule::NearestClass;
+  EXPECT_NEAR(novelty_threshold(nearest, 0.95, 0), 11.0, 1e-9);
+  EXPECT_FALSE(assess_novelty(nearest, Eigen::VectorXd::Constant(1, 15.0), 0.95).novel);
+  EXPECT_TRUE(assess_novelty(c, Eigen::VectorXd::Constant(1, 15.0), 0.95).novel);
+  // Inside class 0 (0.5 from a member): not novel; inside class 1 (0.05, half its typical distance): not novel,
+  // reported class 1 with threshold 0.1.
+  EXPECT_FALSE(assess_novelty(c, Eigen::VectorXd::Constant(1, 4.5)).novel);
+  const NoveltyAssessment in1 = assess_novelty(c, Eigen::VectorXd::Constant(1, 1000.55));
+  EXPECT_EQ(in1.group, 1);
+  EXPECT_NEAR(in1.threshold, 0.1, 1e-9);
+  EXPECT_FALSE(in1.novel);
+  // Why: per class the score over this rule's threshold of that class (unit x median): 0.05 / 0.1 for class 1,
+  // 970.55 / 1 for class 0 (its nearest member: the straggler at 30); the reported class has the smallest, novel
+  // iff it is above 1.
+  ASSERT_EQ(in1.class_ratios.size(), 2u);
+  EXPECT_NEAR(in1.class_ratios[1], 0.5, 1e-6);
+  EXPECT_NEAR(in1.class_ratios[0], 1000.55 - 30, 1e-6);
+  EXPECT_NEAR(far.class_ratios[0], 6.0, 1e-9);
+}
+
+// Whatever the data: a point far from every class scores above every training member and is novel; the figure
+// does not depend on the order of the training rows (leave-one-out calibration; printed seed).
+TEST(Novelty, MedianScaleFarPointAndRowOrder) {
+  const std::uint64_t seed = 20261206;
+  std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> N(0, 1);
+  const int per = 15, p = 4;
+  Eigen::MatrixXd X(3 * per, p);
+  std::vector<int> y;
+  for (int g = 0; g < 3; ++g)
+    for (int i = 0; i < per; ++i) {
+      for (int j = 0; j < p; ++j) X(g * per + i, j) = N(rng) * (1 + g) + 6.0 * g * (j == g ? 1 : 0);
+      y.push_back(g);
+    }
+  NoveltyCalibration c = calibrate_novelty(X, y, 3, 0.95);
+  c.rule = NoveltyRule::MedianScale;
+  const Eigen::VectorXd far = Eigen::VectorXd::Constant(p, 60.0);
+  const NoveltyAssessment af = assess_novelty(c, far);
+  EXPECT_TRUE(af.novel);
+  EXPECT_EQ(af.class_ratios[static_cast<std::size_t>(af.group)], *std::min_element(af.class_ratios.begin(), af.class_ratios.end()));
+  EXPECT_GT(af.class_ratios[static_cast<std::size_t>(af.group)], 1.0);
+  const double far_units = af.score / novelty_median(c, af.group);
+  for (int i = 0; i < X.rows(); ++i) {
+    const NoveltyAssessment a = assess_novelty(c, X.row(i).transpose());
+    EXPECT_LT(a.score / novelty_median(c, a.group), far_units) << "row " << i;
+  }
+  // A permutation of the rows (labels with them): the same figures for any query.
+  std::vector<int> order(static_cast<std::size_t>(X.rows()));
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::shuffle(order.begin(), order.end(), rng);
+  Eigen::MatrixXd Xp(X.rows(), p);
+  std::vector<int> yp;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    Xp.row(static_cast<Eigen::Index>(i)) = X.row(order[i]);
+    yp.push_back(y[static_cast<std::size_t>(order[i])]);
+  }
+  NoveltyCalibration cp = calibrate_novelty(Xp, yp, 3, 0.95);
+  cp.rule = NoveltyRule::MedianScale;
+  for (int t = 0; t < 20; ++t) {
+    Eigen::VectorXd q(p);
+    for (int j = 0; j < p; ++j) q(j) = 4 * N(rng) + 3;
+    const NoveltyAssessment a = assess_novelty(c, q), b = assess_novelty(cp, q);
+    EXPECT_EQ(a.group, b.group);
+    EXPECT_EQ(a.novel, b.novel);
+    EXPECT_NEAR(a.score, b.score, 1e-9 * (1 + a.score));
+    EXPECT_NEAR(a.threshold, b.threshold, 1e-9 * (1 + a.threshold));
+  }
+}
+
+}  // namespace
+}  // namespace wish

@@ -277,7 +277,8 @@ class FakeWishServer:
                                          "model": {"name": "default", "version": "1"}, "novel": novel,
                                          "novelty": {"computed": True, "score": 9.0 if novel else 1.0,
                                                      "p_value": 0.004 if novel else 0.5, "threshold": 3.0,
-                                                     "quantile": 0.99}}
+                                                     "quantile": 0.99, "nearest_class": label,
+                                                     "distance_ratio": 3.0 if novel else 0.333}}
                 return doc
 
         return Handler

@@ -83,6 +83,8 @@ class BatchCliTest(unittest.TestCase):
         # The novelty flag beside the label (the fake server calls none of these novel).
         self.assertEqual({r["novel"] for r in rows}, {"false"})
         self.assertEqual(float(rows[0]["novelty_p_value"]), 0.5)
+        self.assertEqual({(r["novelty_nearest_class"], r["novelty_distance_ratio"]) for r in rows},
+                         {(r["label"], "0.333") for r in rows})
         self.assertEqual([r["file"] for r in rows], sorted(self.expected()))  # output follows input order
         self.assertIn("18 classified, 0 failed", stdout)
         self.assertRegex(stdout, r"neuron\s+6")

@@ -48,6 +48,9 @@ class LibraryTest(unittest.TestCase):
         novel = self.client.classify(fake_mesh("astrocyte", novel=True))
         self.assertIs(novel.novel, True)
         self.assertEqual(novel.novelty_p_value, 0.004)
+        # Why (issue 38 item 3): the nearest class and the distance in units of its spread.
+        self.assertEqual((known.novelty_nearest_class, known.novelty_distance_ratio), ("astrocyte", 0.333))
+        self.assertEqual((novel.novelty_nearest_class, novel.novelty_distance_ratio), ("astrocyte", 3.0))
         self.assertEqual(novel.label, "astrocyte")  # the label is still given beside the flag
 
     def test_classify_bytes_and_named_bytes(self) -> None:

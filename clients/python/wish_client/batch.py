@@ -14,6 +14,9 @@ confidence      probability of ``label``
 margin          decision margin of the winner against the runner-up
 novel           ``true``: none of the types the model knows (its novelty threshold); empty: not computed
 novelty_p_value how typical of the training set (small: unlike every training sample)
+novelty_nearest_class  why: the class the sample is most like relative to that class's spread (the predicted
+                class for a model with the predicted_class rule); empty: not reported
+novelty_distance_ratio its distance in units of that class's calibration spread (novel above 1)
 model           the model that answered
 prob_<class>    probability per class (CSV); ``probabilities`` object (JSON)
 error_code      the server's error code, ``connection_error`` or ``read_error`` (error)
@@ -51,7 +54,8 @@ from .errors import WishClientError, WishConnectionError, WishInputError, WishSe
 MESH_EXTENSIONS = (".obj", ".ply", ".off", ".stl")
 INPUT_EXTENSIONS = MESH_EXTENSIONS + VOLUME_EXTENSIONS
 
-BASE_COLUMNS = ["file", "label_id", "status", "label", "confidence", "margin", "novel", "novelty_p_value", "model", "voxel_count", "truncated",
+BASE_COLUMNS = ["file", "label_id", "status", "label", "confidence", "margin", "novel", "novelty_p_value", "novelty_nearest_class",
+                "novelty_distance_ratio", "model", "voxel_count", "truncated",
                 "error_code", "error_message", "request_id"]
 
 
@@ -105,6 +109,8 @@ class Record:
     margin: float | None = None
     novel: bool | None = None         # None: the model computed no novelty
     novelty_p_value: float | None = None
+    novelty_nearest_class: str = ""   # "": not reported
+    novelty_distance_ratio: float | None = None
     model: str = ""
     probabilities: dict[str, float] = field(default_factory=dict)
     error_code: str = ""
@@ -121,7 +127,8 @@ class Record:
     @classmethod
     def from_result(cls, file: str, r: ClassifyResult, label_id: str = "") -> Record:
         return cls(file=file, status="ok", label=r.label, confidence=r.confidence, margin=r.margin,
-                   novel=r.novel, novelty_p_value=r.novelty_p_value, model=r.model or "", probabilities=dict(r.probabilities), request_id=r.request_id or "",
+                   novel=r.novel, novelty_p_value=r.novelty_p_value,
+                   novelty_nearest_class=r.novelty_nearest_class or "", novelty_distance_ratio=r.novelty_distance_ratio, model=r.model or "", probabilities=dict(r.probabilities), request_id=r.request_id or "",
                    label_id=label_id)
 
     @classmethod
@@ -136,7 +143,8 @@ class Record:
     def to_json(self) -> dict[str, Any]:
         return {"file": self.file, "label_id": self.label_id, "status": self.status, "label": self.label,
                 "confidence": self.confidence, "margin": self.margin, "novel": self.novel,
-                "novelty_p_value": self.novelty_p_value, "model": self.model,
+                "novelty_p_value": self.novelty_p_value, "novelty_nearest_class": self.novelty_nearest_class,
+                "novelty_distance_ratio": self.novelty_distance_ratio, "model": self.model,
                 "probabilities": self.probabilities, "voxel_count": self.voxel_count, "truncated": self.truncated,
                 "error_code": self.error_code, "error_message": self.error_message, "request_id": self.request_id}
 
@@ -151,6 +159,8 @@ class Record:
             novel = {"true": True, "false": False}.get(novel.lower())
         return cls(novel=novel if isinstance(novel, bool) else None,
                    novelty_p_value=_opt_float(d.get("novelty_p_value")),
+                   novelty_nearest_class=d.get("novelty_nearest_class") or "",
+                   novelty_distance_ratio=_opt_float(d.get("novelty_distance_ratio")),
                    file=str(d["file"]), status=str(d.get("status", "ok")), label=d.get("label") or "",
                    confidence=_opt_float(d.get("confidence")), margin=_opt_float(d.get("margin")),
                    model=d.get("model") or "", probabilities={k: float(v) for k, v in

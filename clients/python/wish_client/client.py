@@ -166,6 +166,11 @@ class ClassifyResult:
         novel: True when the sample is none of the types the model knows (its novelty score is above the model's
             threshold, proto ``Prediction.novel``); None when the model has no novelty calibration.
         novelty_p_value: how typical the sample is of the training set (conformal p-value; small = unlike it).
+        novelty_nearest_class: why (issue 38): the class the novelty figures are given for — the class the sample is
+            most like relative to that class's own spread (or the predicted class, for a model with the
+            predicted_class novelty rule); None when not computed or the model has no classes in its novelty block.
+        novelty_distance_ratio: the sample's distance in units of that class's calibration spread (1 = at the
+            class's threshold quantile; novel above 1); None when not reported (or infinite).
         model: name of the model that answered (``name@version`` when the server reports a version).
         request_id: the server's id of the request that produced this result.
         raw: the result object exactly as received (descriptor, timings, warnings, ...).
@@ -180,6 +185,8 @@ class ClassifyResult:
     raw: dict[str, Any] = field(default_factory=dict)
     novel: bool | None = None
     novelty_p_value: float | None = None
+    novelty_nearest_class: str | None = None
+    novelty_distance_ratio: float | None = None
 
     @property
     def confidence(self) -> float | None:
@@ -593,7 +600,16 @@ def _parse_classify(name: str, doc: dict[str, Any]) -> ClassifyResult:
         raw=doc,
         novel=pred["novel"] if isinstance(pred.get("novel"), bool) else None,
         novelty_p_value=_novelty_p_value(pred.get("novelty")),
+        novelty_nearest_class=_novelty_field(pred.get("novelty"), "nearest_class", str),
+        novelty_distance_ratio=_novelty_field(pred.get("novelty"), "distance_ratio", float),
     )
+
+
+def _novelty_field(novelty: Any, key: str, kind: type) -> Any:
+    """proto Novelty's `key` when novelty was computed and the field is present (not null), else None."""
+    if isinstance(novelty, dict) and novelty.get("computed") and novelty.get(key) is not None:
+        return kind(novelty[key])
+    return None
 
 
 def _novelty_p_value(novelty: Any) -> float | None:
