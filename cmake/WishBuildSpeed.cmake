@@ -11,7 +11,9 @@
 #               SKIP_UNITY_BUILD_INCLUSION (e.g. server/http_server.cpp: httplib.h must not meet Eigen).
 option(WISH_PCH "Precompile the heavy third-party headers once and reuse them in every target" ON)
 option(WISH_UNITY "Compile the libraries in unity batches (faster from scratch, slower to rebuild one file)" ON)
-set(WISH_UNITY_BATCH 8 CACHE STRING "Source files per unity batch")
+# 0: one batch per target (scripts/serve.sh's one-off build of the service; a file-local name may then be defined
+# once per library only, which the files of core/ keep to).
+set(WISH_UNITY_BATCH 8 CACHE STRING "Source files per unity batch (0: the whole target in one batch)")
 
 # The precompiled header must be built with exactly the flags of the files that use it (the compiler ignores it
 # otherwise, with a -Winvalid-pch warning): every WISH target links OpenMP (through wish_common), is C++20 and

@@ -13,8 +13,10 @@ models=${WISH_MODELS:-data/models}
 bash scripts/install-deps.sh
 # A new build folder: Ninja, which compiles the objects of every library at once (Make waits for each library's
 # dependencies) and keeps both cores busy with the few large unity batches (cmake/WishBuildSpeed.cmake); no tests
-# or benchmarks, whose packages the service's set-up does not install (scripts/test.sh turns them on).
-new_folder=(); [[ -f build/release/CMakeCache.txt ]] || new_folder=(-G Ninja -DWISH_BUILD_TESTS=OFF -DWISH_BUILD_BENCH=OFF)
+# or benchmarks, whose packages the service's set-up does not install (scripts/test.sh turns them on). One unity
+# batch per library (WISH_UNITY_BATCH=0) for this one-off build: the Eigen and JSON templates a library's files share
+# are instantiated once instead of once per batch of 8 (docs/benchmarks.md, "A bare machine to a served page").
+new_folder=(); [[ -f build/release/CMakeCache.txt ]] || new_folder=(-G Ninja -DWISH_BUILD_TESTS=OFF -DWISH_BUILD_BENCH=OFF -DWISH_UNITY_BATCH=0)
 cmake "${new_folder[@]}" -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j "$(getconf _NPROCESSORS_ONLN)" --target wish-server
 

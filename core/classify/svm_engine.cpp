@@ -21,7 +21,7 @@ std::mutex& rand_mutex() {
   return m;
 }
 
-[[noreturn]] void invalid(const std::string& message) { throw InvalidInputError("model_invalid", message); }
+[[noreturn]] void invalid_svm(const std::string& message) { throw InvalidInputError("model_invalid", message); }
 
 void append_dense(std::vector<svm_node>& nodes, const double* x, int n) {
   for (int j = 0; j < n; ++j) nodes.push_back({j + 1, x[j]});
@@ -89,31 +89,31 @@ SvmEngine::SvmEngine(SvmModelData data) : impl_(std::make_unique<Impl>()) {
   const int k = data.n_classes;
   const Eigen::Index l = data.support_vectors.rows();
   const std::size_t pairs = static_cast<std::size_t>(k) * (k - 1) / 2;
-  if (k < 2) invalid("the SVM has " + std::to_string(k) + " classes; at least 2 are needed");
-  if (data.n_features < 1) invalid("the SVM has no features");
-  if (!(data.gamma > 0) || !(data.C > 0)) invalid("the SVM's C and gamma must be positive");
+  if (k < 2) invalid_svm("the SVM has " + std::to_string(k) + " classes; at least 2 are needed");
+  if (data.n_features < 1) invalid_svm("the SVM has no features");
+  if (!(data.gamma > 0) || !(data.C > 0)) invalid_svm("the SVM's C and gamma must be positive");
   if (data.support_vectors.cols() != data.n_features)
-    invalid("support vectors have " + std::to_string(data.support_vectors.cols()) + " columns, the SVM expects " +
+    invalid_svm("support vectors have " + std::to_string(data.support_vectors.cols()) + " columns, the SVM expects " +
             std::to_string(data.n_features));
   if (static_cast<int>(data.labels.size()) != k || static_cast<int>(data.n_sv.size()) != k)
-    invalid("the SVM's labels / n_sv do not have one entry per class (" + std::to_string(k) + ")");
+    invalid_svm("the SVM's labels / n_sv do not have one entry per class (" + std::to_string(k) + ")");
   std::vector<int> sorted = data.labels;
   std::sort(sorted.begin(), sorted.end());
   for (int i = 0; i < k; ++i)
-    if (sorted[i] != i) invalid("the SVM's labels are not a permutation of 0.." + std::to_string(k - 1));
+    if (sorted[i] != i) invalid_svm("the SVM's labels are not a permutation of 0.." + std::to_string(k - 1));
   if (std::accumulate(data.n_sv.begin(), data.n_sv.end(), Eigen::Index{0}) != l ||
       std::any_of(data.n_sv.begin(), data.n_sv.end(), [](int n) { return n < 0; }))
-    invalid("n_sv does not add up to the " + std::to_string(l) + " support vectors");
+    invalid_svm("n_sv does not add up to the " + std::to_string(l) + " support vectors");
   if (data.sv_coef.rows() != k - 1 || data.sv_coef.cols() != l)
-    invalid("sv_coef is " + std::to_string(data.sv_coef.rows()) + " x " + std::to_string(data.sv_coef.cols()) +
+    invalid_svm("sv_coef is " + std::to_string(data.sv_coef.rows()) + " x " + std::to_string(data.sv_coef.cols()) +
             ", expected " + std::to_string(k - 1) + " x " + std::to_string(l));
-  if (data.rho.size() != pairs) invalid("rho has " + std::to_string(data.rho.size()) + " entries, expected " + std::to_string(pairs));
+  if (data.rho.size() != pairs) invalid_svm("rho has " + std::to_string(data.rho.size()) + " entries, expected " + std::to_string(pairs));
   if (!(data.prob_a.empty() && data.prob_b.empty()) && (data.prob_a.size() != pairs || data.prob_b.size() != pairs))
-    invalid("probA/probB must have " + std::to_string(pairs) + " entries each");
+    invalid_svm("probA/probB must have " + std::to_string(pairs) + " entries each");
   auto finite = [](const auto& v) { return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }); };
   if (!data.support_vectors.allFinite() || !data.sv_coef.allFinite() || !finite(data.rho) || !finite(data.prob_a) ||
       !finite(data.prob_b))
-    invalid("the SVM contains non-finite numbers");
+    invalid_svm("the SVM contains non-finite numbers");
   impl_->data = std::move(data);
   impl_->build_view();
 }

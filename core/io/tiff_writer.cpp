@@ -47,7 +47,7 @@ toff_t out_size(thandle_t h) { return static_cast<MemoryOut*>(h)->bytes.size(); 
 int out_map(thandle_t, void**, toff_t*) { return 0; }
 void out_unmap(thandle_t, void*, toff_t) {}
 
-[[noreturn]] void failed(const std::string& what) {
+[[noreturn]] void tiff_write_failed(const std::string& what) {
   throw IoError("write_failed", "TIFF label image: " + what + " (libtiff)");
 }
 
@@ -90,8 +90,8 @@ void write_pages(TIFF* tif, const LabelImageShape& shape, const LabelRowSource& 
     if (z == 0) TIFFSetField(tif, TIFFTAG_IMAGEDESCRIPTION, description.c_str());
     source(z * static_cast<std::int64_t>(nx) * ny, static_cast<std::int64_t>(nx) * ny, 1, slice.data());
     if (TIFFWriteEncodedStrip(tif, 0, slice.data(), static_cast<tmsize_t>(slice.size())) < 0)
-      failed("page " + std::to_string(z) + " could not be encoded");
-    if (!TIFFWriteDirectory(tif)) failed("page " + std::to_string(z) + " could not be written");
+      tiff_write_failed("page " + std::to_string(z) + " could not be encoded");
+    if (!TIFFWriteDirectory(tif)) tiff_write_failed("page " + std::to_string(z) + " could not be written");
   }
 }
 
@@ -128,7 +128,7 @@ std::string tiff_labels_bytes(const LabelImageShape& shape, const LabelRowSource
   MemoryOut out;
   TIFF* tif = TIFFClientOpen("class-map.tif", "w", &out, out_read, out_write, out_seek, out_close, out_size, out_map,
                              out_unmap);
-  if (!tif) failed("cannot open an in-memory TIFF");
+  if (!tif) tiff_write_failed("cannot open an in-memory TIFF");
   write_and_close(tif, shape, source, palette);
   return std::move(out.bytes);
 }
