@@ -38,16 +38,18 @@ namespace {
 using wire::json_number_or_nan;
 
 // The defaults are core's one default (default_pipeline_options(): the training recipe's map and fit, issue 37).
+const PipelineOptions kDefaults = default_pipeline_options();
+
 struct DescribeOptions {
   std::vector<std::string> files;
   DescribeOverrides overrides;  // --method, --lmax, --steps
   bool json = false, csv = false;
-  FitWeighting weights = default_pipeline_options().sh.weighting;
-  FitSolver solver = default_pipeline_options().sh.solver;
-  std::string area_correction = to_string(default_pipeline_options().map.area_correction.method);
-  std::string canonical = to_string(default_pipeline_options().map.canonical.method);
-  std::string sampling = to_string(default_pipeline_options().sh.sampling);
-  double regularization = default_pipeline_options().sh.regularization;
+  FitWeighting weights = kDefaults.sh.weighting;
+  FitSolver solver = kDefaults.sh.solver;
+  std::string area_correction = to_string(kDefaults.map.area_correction.method);
+  std::string canonical = to_string(kDefaults.map.canonical.method);
+  std::string sampling = to_string(kDefaults.sh.sampling);
+  double regularization = kDefaults.sh.regularization;
   bool quiet = false;
   VolumeCliOptions volume;
 };
@@ -167,7 +169,7 @@ std::string defaults_footer() {
 
 CommandRunner setup_describe(CLI::App& sub) {
   auto options = std::make_shared<DescribeOptions>();
-  const PipelineOptions defaults = default_pipeline_options();
+  const PipelineOptions& defaults = kDefaults;
   sub.add_option("files", options->files, "Mesh files (OBJ, PLY, OFF, STL) or label volumes (NIfTI-1, TIFF, OME-Zarr store or .zip)")->required();
   sub.add_option("--lmax", options->overrides.lmax, "Maximum SH degree")
       ->check(CLI::Range(kShMinFitLmax, kShMaxFitLmax))->default_str(std::to_string(defaults.sh.lmax));
@@ -202,7 +204,7 @@ CommandRunner setup_describe(CLI::App& sub) {
   sub.footer(defaults_footer());
   return [options]() {
     check_overrides(options->overrides, "--steps");
-    PipelineOptions po = default_pipeline_options();
+    PipelineOptions po = kDefaults;
     apply_overrides(options->overrides, po);
     po.map.area_correction.method = area_correction_from_name(options->area_correction);
     po.map.canonical.method = canonical_map_from_name(options->canonical);

@@ -84,7 +84,8 @@ class ClassifierModel {
   // novelty.hpp). Prediction computes the same figure. Models with leave-one-out scores are still written as 5.
   // 7: payload.novelty.rule = "predicted_class" (novelty.hpp NoveltyRule: the class the SVM predicts decides;
   // issue 38); calibration_folds and whitening as format 6 (each only when used). Models with the nearest-class
-  // rule are written as before (5 or 6).
+  // rule are written as before (5 or 6). 8: payload.novelty.rule = "median_scale" (novelty.hpp; issue 38, second
+  // pass), written only for that rule.
   static constexpr int kFormatVersion = 8;
 
   // Throws InvalidInputError("model_invalid" | "model_version", ...) with a clear message on a wrong version,

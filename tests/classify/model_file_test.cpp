@@ -587,13 +587,18 @@ TEST(ClassifierModel, PredictionRefusesMissingFeatures) {
 namespace wish {
 namespace {
 
+// A small 3-class model whose novelty block uses `rule` (the format tests of issue 38's rules).
+ClassifierModel trained_with_novelty_rule(NoveltyRule rule) {
+  auto opts = testing::quick_train_options();
+  opts.nested_repeats = 0;
+  opts.novelty_rule = rule;
+  return train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+}
+
 // Issue 38: the predicted-class rule is format 7 (payload.novelty.rule), a format-6 reader refuses it by its key,
 // and a prediction says why: one ratio per class, the reported class's ratio is score / threshold.
 TEST(ModelFile, PredictedClassNoveltyRuleIsVersion7AndSaysWhy) {
-  auto opts = testing::quick_train_options();
-  opts.nested_repeats = 0;
-  opts.novelty_rule = NoveltyRule::PredictedClass;
-  const ClassifierModel model = train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+  const ClassifierModel model = trained_with_novelty_rule(NoveltyRule::PredictedClass);
   const auto doc = nlohmann::json::parse(model.to_json_text());
   EXPECT_EQ(doc["format_version"], 7);
   EXPECT_EQ(doc["payload"]["novelty"]["rule"], "predicted_class");
@@ -633,10 +638,7 @@ namespace {
 
 // Issue 38, second pass: the median_scale rule is format 8; a format-7 reader refuses it by number.
 TEST(ModelFile, MedianScaleNoveltyRuleIsVersion8) {
-  auto opts = testing::quick_train_options();
-  opts.nested_repeats = 0;
-  opts.novelty_rule = NoveltyRule::MedianScale;
-  const ClassifierModel model = train_classifier(testing::synthetic_samples(3, 12, 11), opts).model;
+  const ClassifierModel model = trained_with_novelty_rule(NoveltyRule::MedianScale);
   const auto doc = nlohmann::json::parse(model.to_json_text());
   EXPECT_EQ(doc["format_version"], 8);
   EXPECT_EQ(doc["payload"]["novelty"]["rule"], "median_scale");

@@ -48,7 +48,8 @@ class SlowClientTest(unittest.TestCase):
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
     def test_half_open_connections_do_not_starve_health_or_classify(self):
-        with h.Server(models_dir=self.models, args=["--workers", "2", "--read-timeout", "30"]) as s:
+        read_timeout = 30
+        with h.Server(models_dir=self.models, args=["--workers", "2", "--read-timeout", str(read_timeout)]) as s:
             socks, open_s = timed(lambda: half_open(s.port, HALF_OPEN))
             try:
                 r, health_s = timed(lambda: s.request("GET", "/healthz", timeout=10))
@@ -60,8 +61,11 @@ class SlowClientTest(unittest.TestCase):
                 self.assertEqual(r.status, 200, r.body[:300])
                 sys.stderr.write("\n%d half-open connections (opened in %.1f s): /healthz %.3f s, /metrics %.3f s, "
                                  "%s %.3f s\n" % (HALF_OPEN, open_s, health_s, metrics_s, path, classify_s))
-                self.assertLess(health_s, 1.0)
-                self.assertLess(metrics_s, 1.0)
+                # Starved, they would wait for a half-open connection's read timeout; answered, they take
+                # milliseconds (printed above). The bound is that mechanism's, not a speed: 1 s failed with both
+                # cores busy (1.28 s), a tenth of the read timeout does not.
+                self.assertLess(health_s, read_timeout / 10)
+                self.assertLess(metrics_s, read_timeout / 10)
             finally:
                 for c in socks:
                     c.close()
