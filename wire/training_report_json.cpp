@@ -67,6 +67,8 @@ nlohmann::json training_report_json(const TrainingReport& r) {
         {"best_score", r.grid.best_score}, {"seconds", r.grid.seconds}, {"fits", r.grid.fits},
         {"capped_fits", int_matrix_json(r.grid.capped_fits)}, {"capped_fits_total", r.grid.total_capped_fits()},
         {"cells_skipped", r.grid.cells_skipped}, {"precomputed_kernel", r.grid.precomputed_kernel},
+        {"narrow_fits", int_matrix_json(r.grid.narrow_fits)}, {"cells_offset_decided", r.grid.cells_offset_decided},
+        {"best_offset_decided", r.grid.best_offset_decided},
         {"early_stop",
          {{"enabled", r.grid.early_stop}, {"drop", r.grid.early_stop_drop}, {"patience", r.grid.early_stop_patience}}},
         {"method", r.grid.method}, {"reason", r.search_reason}, {"search_rows", r.grid.search_rows}}},

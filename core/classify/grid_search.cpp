@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 
+#include "core/classify/decision_spread.hpp"
 #include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/svm_engine.hpp"
 #include "core/common/cpu_budget.hpp"
@@ -51,8 +52,14 @@ void parallel_for(int n, int jobs, const std::function<void(int)>& f) {
   if (error) std::rethrow_exception(error);
 }
 
-bool EarlyStopRow::stop_after(double mean) {
+bool GridSearchResult::cell_offset_decided(int ci, int gi) const {
+  return narrow_fits.size() && splits_per_cell.size() && !std::isnan(mean_score(ci, gi)) &&
+         offset_decided(narrow_fits(ci, gi), splits_per_cell(ci, gi));
+}
+
+bool EarlyStopRow::stop_after(double mean, bool offset_decided) {
   if (first_ < 0) first_ = mean;
+  if (offset_decided) return false;  // its score is the splits' class balance: neither a peak nor a fall
   // Only a row that has risen above its first cell can have passed its peak; a flat start (every sample in one
   // class's region, as at the tiny gammas) is not a plateau.
   const bool risen = best_ > first_;
@@ -90,6 +97,10 @@ PrecomputedKernel::FitScore fit_split(const PrecomputedKernel* kernel, const Spl
   const SvmEngine svm = SvmEngine::train(rows.train_x[s], rows.train_y[s], params, 0, &score.iteration_cap_warnings);
   for (std::size_t i = 0; i < split.test.size(); ++i)
     score.correct += svm.predict_label(rows.test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
+  DecisionSpread spread(svm.data().labels);
+  for (std::size_t i = 0; i < split.train.size(); ++i)
+    spread.add(rows.train_y[s][i], svm.predict(rows.train_x[s].row(static_cast<Eigen::Index>(i)).transpose()).decision);
+  score.decision_spread = spread.spread();
   return score;
 }
 
@@ -122,16 +133,18 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
     params.gamma = r.gammas[gi];
     params.probability = false;  // accuracy needs votes only; no rand(), so cells run concurrently
     std::vector<double> scores;
-    int capped = 0;
+    int capped = 0, narrow = 0;
     for (std::size_t s = 0; s < splits.size(); ++s) {
       const auto fit = fit_split(nullptr, rows, splits, s, y, params);
       capped += fit.iteration_cap_warnings > 0;
+      narrow += fit.decision_spread < kMarginSpread;
       scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
     }
     const CellStats st = stats_of(scores);
     r.mean_score(ci, gi) = st.mean;
     r.std_score(ci, gi) = st.std;
     r.capped_fits(ci, gi) = capped;
+    r.narrow_fits(ci, gi) = narrow;
     r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
   });
 }
@@ -161,19 +174,21 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
       params.gamma = r.gammas[gi];
       params.probability = false;
       std::vector<double> scores;
-      int capped = 0;
+      int capped = 0, narrow = 0;
       for (std::size_t s = 0; s < splits.size(); ++s) {
         const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, s, y, params);
         capped += fit.iteration_cap_warnings > 0;
+        narrow += fit.decision_spread < kMarginSpread;
         scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
       }
       const CellStats st = stats_of(scores);
       r.mean_score(ci, gi) = st.mean;
       r.std_score(ci, gi) = st.std;
       r.capped_fits(ci, gi) = capped;
+      r.narrow_fits(ci, gi) = narrow;
       r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
       if (!options.early_stop) continue;
-      stopped = rule.stop_after(st.mean);
+      stopped = rule.stop_after(st.mean, offset_decided(narrow, static_cast<int>(splits.size())));
     }
   });
 }
@@ -196,10 +211,16 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
   r.mean_score.setZero(nc, ng);
   r.std_score.setZero(nc, ng);
   r.capped_fits.setZero(nc, ng);
+  r.narrow_fits.setZero(nc, ng);
+  r.splits_per_cell.setConstant(nc, ng, static_cast<int>(splits.size()));
   r.cell_cpu_seconds.setZero(nc, ng);
   if (!options.precomputed_kernel && !options.early_stop) exhaustive_rbf_cells(X, y, splits, options, r);
   else row_wise_cells(X, y, splits, options, r);
+  // The best cell: the highest mean among the cells not decided by the offset, ties to the first in C-major order;
+  // only when every scored cell is offset-decided, the best of those.
   r.best_score = -1;
+  double best_offset_score = -1;
+  int best_offset_c = 0, best_offset_gamma = 0;
   for (int ci = 0; ci < nc; ++ci)
     for (int gi = 0; gi < ng; ++gi) {
       if (std::isnan(r.mean_score(ci, gi))) {
@@ -207,12 +228,25 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
         continue;
       }
       r.fits += static_cast<int>(splits.size());
-      if (r.mean_score(ci, gi) > r.best_score) {
+      if (r.cell_offset_decided(ci, gi)) {
+        ++r.cells_offset_decided;
+        if (r.mean_score(ci, gi) > best_offset_score) {
+          best_offset_score = r.mean_score(ci, gi);
+          best_offset_c = ci;
+          best_offset_gamma = gi;
+        }
+      } else if (r.mean_score(ci, gi) > r.best_score) {
         r.best_score = r.mean_score(ci, gi);
         r.best_c = ci;
         r.best_gamma = gi;
       }
     }
+  if (r.best_score < 0) {
+    r.best_offset_decided = true;
+    r.best_score = best_offset_score;
+    r.best_c = best_offset_c;
+    r.best_gamma = best_offset_gamma;
+  }
   r.search_rows = static_cast<int>(X.rows());
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

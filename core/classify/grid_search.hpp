@@ -20,6 +20,14 @@
 //    exhaustive search's cell for each feature family with 8-12x less CPU; a row that dips and rises again past
 //    its dip is the case it can miss (patience > 1 tolerates such dips, at a cost).
 // Every fit that stops at libsvm's iteration cap (not converged) is counted per cell.
+//
+// Cells decided by the offset (decision_spread.hpp): a cell most of whose split fits have a decision spread below
+// the margin width is never the best cell while any other cell was scored (if every cell is, the best of them is
+// chosen and best_offset_decided says so), and for the early-stop rule it is at most the row's start, never its best
+// or a fall (its score comes from the validation splits' class balance, not from the kernel: a high one must not stop
+// the row before the kernel's cells). Why: such a cell can
+// win on the balanced validation splits and then, refitted on all rows with their real imbalance, put every sample
+// into the larger class (measured on demo48: validation 0.812, the final model's training accuracy 0.368).
 
 #include <functional>
 #include <string>
@@ -55,9 +63,13 @@ struct GridSearchResult {
   std::vector<double> Cs, gammas;
   Eigen::MatrixXd mean_score, std_score;  // Cs.size() by gammas.size(); NaN where early stop skipped the cell
   Eigen::MatrixXi capped_fits;            // per cell: split fits with a solver stopped at libsvm's iteration cap
+  Eigen::MatrixXi narrow_fits;            // per cell: split fits decided by the offset (decision_spread.hpp)
+  Eigen::MatrixXi splits_per_cell;        // per cell: split fits its score (and narrow_fits) counts
   Eigen::MatrixXd cell_cpu_seconds;       // per cell: CPU time of its split fits (thread CPU clock; bench/ profiles)
   int fits = 0;                           // split fits run (cells evaluated x splits)
   int cells_skipped = 0;                  // by early stop
+  int cells_offset_decided = 0;           // scored cells most of whose fits were decided by the offset
+  bool best_offset_decided = false;       // every scored cell was: the best of them was chosen anyway
   bool early_stop = false;                // the options the search ran with (for the report)
   double early_stop_drop = 0;
   int early_stop_patience = 0;
@@ -69,6 +81,7 @@ struct GridSearchResult {
   double best_score = 0;
   double seconds = 0;
   int total_capped_fits() const { return capped_fits.size() ? capped_fits.sum() : 0; }
+  bool cell_offset_decided(int ci, int gi) const;
   double C() const { return Cs[best_c]; }
   double gamma() const { return gammas[best_gamma]; }
 };
@@ -78,8 +91,9 @@ struct GridSearchResult {
 class EarlyStopRow {
  public:
   EarlyStopRow(double drop, int patience) : drop_(drop), patience_(patience) {}
-  // Records the next cell's mean accuracy; true when the row stops after it (its larger C are skipped).
-  bool stop_after(double mean);
+  // Records the next cell's mean accuracy; true when the row stops after it (its larger C are skipped). A cell decided
+  // by the offset only sets the row's start (when it is the first); it is neither the row's best nor a fall.
+  bool stop_after(double mean, bool offset_decided = false);
 
  private:
   double drop_;

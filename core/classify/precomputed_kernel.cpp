@@ -7,6 +7,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/classify/decision_spread.hpp"
 #include "core/classify/libsvm_messages.hpp"
 #include "core/common/errors.hpp"
 
@@ -74,6 +75,13 @@ PrecomputedKernel::FitScore PrecomputedKernel::fit_and_score(const std::vector<i
     score.iteration_cap_warnings = cap.warnings();
   }
   for (int i : test) score.correct += static_cast<int>(svm_predict(model, impl_->row(i))) == y[i];
+  DecisionSpread spread(std::vector<int>(model->label, model->label + model->nr_class));
+  std::vector<double> decision(static_cast<std::size_t>(model->nr_class) * (model->nr_class - 1) / 2);
+  for (int i : order) {
+    svm_predict_values(model, impl_->row(i), decision.data());
+    spread.add(y[i], decision);
+  }
+  score.decision_spread = spread.spread();
   svm_free_and_destroy_model(&model);  // free_sv == 0: the nodes are ours
   return score;
 }

@@ -31,9 +31,12 @@ class PrecomputedKernel {
   struct FitScore {
     int correct = 0;              // test rows predicted right (libsvm's one-vs-one vote, as svm_predict)
     int iteration_cap_warnings = 0;  // pairwise solvers of this fit that stopped at libsvm's iteration cap
+    // The fit's decision spread over its own training rows (decision_spread.hpp): below kMarginSpread the fit is
+    // decided by its offset, not its kernel expansion.
+    double decision_spread = 0;
   };
   // C-SVC (params.C, tolerance, cache, shrinking; no probabilities) on rows `train` with labels y[row] (0..k-1),
-  // scored on rows `test`. Rows are stably ordered by label before training, as SvmEngine::train does, so the vote
+  // scored on rows `test`, with the fit's decision spread over rows `train`. Rows are stably ordered by label before training, as SvmEngine::train does, so the vote
   // order and ties are the same as a plain RBF fit's. Thread-safe: concurrent fits only read the nodes.
   FitScore fit_and_score(const std::vector<int>& train, const std::vector<int>& test, const std::vector<int>& y,
                          const SvmParams& params) const;

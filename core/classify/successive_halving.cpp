@@ -8,6 +8,7 @@
 #include <numeric>
 #include <optional>
 
+#include "core/classify/decision_spread.hpp"
 #include "core/classify/precomputed_kernel.hpp"
 #include "core/classify/splits.hpp"
 #include "core/classify/svm_engine.hpp"
@@ -45,7 +46,9 @@ std::vector<int> rung_rows(int cells, int min_rows, int max_rows, int factor) {
 struct CellScore {
   double mean = 0, std = 0, cpu = 0;
   int capped = 0;
+  int narrow = 0;        // split fits decided by the offset (decision_spread.hpp)
   bool skipped = false;  // by the early-stop rule along its gamma row, in this rung
+  bool offset = false;   // most of its split fits were
 };
 
 // Scores `cells` (indices ci * ng + gi) on the stratified shuffle splits of the rows `subset` of X: one precomputed
@@ -71,7 +74,7 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
   for (std::size_t p = 0; p < cells.size(); ++p) by_gamma[cells[p] % ng].push_back(static_cast<int>(p));
   std::vector<CellScore> out(cells.size());
   std::vector<double> accuracy(ns), cpu(ns);
-  std::vector<int> capped(ns);
+  std::vector<int> capped(ns), narrow(ns);
   for (auto& [gi, positions] : by_gamma) {
     std::stable_sort(positions.begin(), positions.end(),
                      [&](int a, int b) { return r.Cs[cells[a] / ng] < r.Cs[cells[b] / ng]; });
@@ -95,6 +98,7 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
         const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, static_cast<std::size_t>(s), yr, params);
         accuracy[s] = static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size());
         capped[s] = fit.iteration_cap_warnings > 0;
+        narrow[s] = fit.decision_spread < kMarginSpread;
         cpu[s] = CpuBudget::thread_cpu_seconds() - start;
       });
       CellScore& c = out[p];
@@ -105,10 +109,12 @@ std::vector<CellScore> score_cells(const Eigen::MatrixXd& X, const std::vector<i
       for (int s = 0; s < ns; ++s) {
         var += (accuracy[s] - c.mean) * (accuracy[s] - c.mean);
         c.capped += capped[s];
+        c.narrow += narrow[s];
         c.cpu += cpu[s];
       }
       c.std = std::sqrt(var / ns);
-      if (grid.early_stop) stopped = rule.stop_after(c.mean);
+      c.offset = offset_decided(c.narrow, ns);
+      if (grid.early_stop) stopped = rule.stop_after(c.mean, c.offset);
     }
   }
   return out;
@@ -159,6 +165,8 @@ GridSearchResult successive_halving(const Eigen::MatrixXd& X, const std::vector<
   r.mean_score.setConstant(nc, ng, std::numeric_limits<double>::quiet_NaN());
   r.std_score.setConstant(nc, ng, std::numeric_limits<double>::quiet_NaN());
   r.capped_fits.setZero(nc, ng);
+  r.narrow_fits.setZero(nc, ng);
+  r.splits_per_cell.setZero(nc, ng);
   r.cell_cpu_seconds.setZero(nc, ng);
   r.cell_rung.setConstant(nc, ng, -1);
 
@@ -189,6 +197,8 @@ GridSearchResult successive_halving(const Eigen::MatrixXd& X, const std::vector<
       r.mean_score(ci, gi) = scores[p].mean;
       r.std_score(ci, gi) = scores[p].std;
       r.capped_fits(ci, gi) += scores[p].capped;
+      r.narrow_fits(ci, gi) = scores[p].narrow;  // of the rung its mean_score comes from
+      r.splits_per_cell(ci, gi) = static_cast<int>(splits.size());
       r.cell_cpu_seconds(ci, gi) += scores[p].cpu;
       r.cell_rung(ci, gi) = static_cast<int>(rung);
     }
@@ -196,11 +206,13 @@ GridSearchResult successive_halving(const Eigen::MatrixXd& X, const std::vector<
     r.fits += fits;
     r.rungs.push_back({schedule[rung], static_cast<int>(candidates.size()), static_cast<int>(splits.size()), fits,
                        std::chrono::duration<double>(std::chrono::steady_clock::now() - rung_start).count()});
-    // Rank by mean accuracy, ties to the first cell in C-major order; keep the best 1/factor for the next rung.
+    // Rank by mean accuracy, ties to the first cell in C-major order, the cells decided by the offset after all
+    // others (grid_search.hpp); keep the best 1/factor for the next rung.
     std::vector<int> rank(candidates.size());
     std::iota(rank.begin(), rank.end(), 0);
     std::stable_sort(rank.begin(), rank.end(), [&](int a, int b) {
       if (scores[a].skipped != scores[b].skipped) return scores[b].skipped;  // skipped cells rank last
+      if (scores[a].offset != scores[b].offset) return scores[b].offset;
       return scores[a].mean != scores[b].mean ? scores[a].mean > scores[b].mean : candidates[a] < candidates[b];
     });
     const std::size_t keep = std::min<std::size_t>(
@@ -211,10 +223,13 @@ GridSearchResult successive_halving(const Eigen::MatrixXd& X, const std::vector<
       r.best_c = next.front() / ng;
       r.best_gamma = next.front() % ng;
       r.best_score = scores[rank.front()].mean;
+      r.best_offset_decided = scores[rank.front()].offset;
     }
     std::sort(next.begin(), next.end());
     candidates = std::move(next);
   }
+  for (int ci = 0; ci < nc; ++ci)
+    for (int gi = 0; gi < ng; ++gi) r.cells_offset_decided += r.cell_offset_decided(ci, gi);
   r.search_rows = schedule.back();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

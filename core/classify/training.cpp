@@ -238,7 +238,9 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
       ", validation accuracy " + std::to_string(rep.grid.best_score) + " on " + std::to_string(rep.grid.search_rows) +
       " rows (" + std::to_string(rep.grid.seconds) + " s; " + std::to_string(rep.grid.fits) + " fits, " +
       std::to_string(rep.grid.total_capped_fits()) + " stopped at libsvm's iteration cap, " +
-      std::to_string(rep.grid.cells_skipped) + " cells skipped by early stop)");
+      std::to_string(rep.grid.cells_skipped) + " cells skipped by early stop, " +
+      std::to_string(rep.grid.cells_offset_decided) + " decided by the offset" +
+      (rep.grid.best_offset_decided ? ", the chosen one too: every scored cell was" : "") + ")");
 
   SvmParams params;
   params.C = rep.grid.C();

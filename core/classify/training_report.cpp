@@ -6,6 +6,7 @@
 #include <sstream>
 
 
+#include "core/classify/decision_spread.hpp"
 #include "core/classify/feature_pipeline.hpp"
 
 namespace wish {
@@ -69,6 +70,13 @@ std::string training_report_table(const TrainingReport& r) {
     if (shown > 6) o << " ...";
   }
   o << "\n";
+  if (r.grid.cells_offset_decided > 0)
+    o << "grid: " << r.grid.cells_offset_decided << " cells decided by the SVM's offset (most fits' decision values "
+      << "spread less than the margin width " << fmt("%.3g", kMarginSpread) << " over their training rows), "
+      << (r.grid.best_offset_decided ? "and so is the best cell: every scored cell was" : "never chosen") << "\n";
+  if (r.grid.best_offset_decided)
+    o << "WARNING: the chosen cell is decided by the offset; the model may put every sample into the larger class "
+         "(check the training accuracy and the confusion matrix)\n";
   if (!r.nested.scores.empty())
     o << "nested CV inner searches: " << r.nested.fits << " fits, " << r.nested.capped_fits
       << " stopped at the iteration cap, " << r.nested.cells_skipped << " cells skipped by early stop\n";
@@ -156,6 +164,7 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
   o << "<text x=\"" << left << "\" y=\"38\">mean validation accuracy; best C = " << exponent_label(g.C()) << ", gamma = "
     << exponent_label(g.gamma()) << " (" << fmt("%.3f", g.best_score) << "); !n: fits stopped at the iteration cap"
     << (g.cells_skipped ? "; grey: skipped (early stop)" : "")
+    << (g.cells_offset_decided ? "; o: decided by the offset (not chosen)" : "")
     << (halving ? "; rN: successive halving's rung N (" + std::to_string(g.rungs.front().rows) + " to " +
                       std::to_string(g.rungs.back().rows) + " rows), scores of different rungs differ in rows"
                 : std::string())
@@ -165,6 +174,7 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
       const double v = g.mean_score(ci, gi);
       const int x = left + gi * cell, y = top + ci * cell;
       const int capped = g.capped_fits.size() ? g.capped_fits(ci, gi) : 0;
+      const bool offset = g.cell_offset_decided(ci, gi);
       const std::string where = "C=" + exponent_label(g.Cs[ci]) + " gamma=" + exponent_label(g.gammas[gi]);
       if (std::isnan(v)) {
         o << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << cell << "\" height=\"" << cell
@@ -176,12 +186,19 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
       const double t = hi > lo ? (v - lo) / (hi - lo) : 1.0;
       o << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << cell << "\" height=\"" << cell << "\" fill=\"" << bupu(t)
         << "\"><title>" << where << ": " << fmt("%.3f", v)
-        << (capped ? "; " + std::to_string(capped) + " fits stopped at the iteration cap" : std::string()) << "</title></rect>\n";
+        << (capped ? "; " + std::to_string(capped) + " fits stopped at the iteration cap" : std::string())
+        << (offset ? "; decided by the offset in " + std::to_string(g.narrow_fits(ci, gi)) + " of " +
+                         std::to_string(g.splits_per_cell(ci, gi)) + " fits"
+                   : std::string())
+        << "</title></rect>\n";
       o << "<text x=\"" << x + cell / 2 << "\" y=\"" << y + cell / 2 + 4 << "\" text-anchor=\"middle\" font-size=\"9\" fill=\""
         << (t > 0.55 ? "white" : "black") << "\">" << fmt("%.2f", v) << "</text>\n";
       if (halving)  // the rung (so the rows) this cell's score is from
         o << "<text x=\"" << x + 2 << "\" y=\"" << y + 10 << "\" font-size=\"8\" fill=\"" << (t > 0.55 ? "white" : "#555")
           << "\">r" << g.cell_rung(ci, gi) << "</text>\n";
+      if (offset)  // a bottom-left mark: the cell's fits are decided by the SVM's offset (decision_spread.hpp)
+        o << "<text x=\"" << x + 2 << "\" y=\"" << y + cell - 3 << "\" font-size=\"8\" fill=\""
+          << (t > 0.55 ? "white" : "#555") << "\">o</text>\n";
       if (capped)  // a corner mark with the count: fits of this cell that did not converge
         o << "<text x=\"" << x + cell - 2 << "\" y=\"" << y + 10 << "\" text-anchor=\"end\" font-size=\"8\" fill=\"#d7301f\">!"
           << capped << "</text>\n";

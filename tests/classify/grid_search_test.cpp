@@ -60,8 +60,8 @@ TEST(GridSearch, EarlyStopSkipsCellsExactlyWhereItsRuleSaysAndChangesNone) {
   for (Eigen::Index g = 0; g < full.mean_score.cols(); ++g) {
     // Replay the rule on the exhaustive row: once the row has risen above its first cell, after `patience`
     // consecutive C not better than the best so far by more than `-drop` (drop 0: no better), every larger C is
-    // skipped.
-    double best = -1, first = full.mean_score(0, g);
+    // skipped. A cell decided by the SVM's offset (decision_spread.hpp) is at most the row's start.
+    double best = -1, first = -1;
     int fallen = 0;
     bool stopped = false;
     for (Eigen::Index c = 0; c < full.mean_score.rows(); ++c) {
@@ -72,6 +72,8 @@ TEST(GridSearch, EarlyStopSkipsCellsExactlyWhereItsRuleSaysAndChangesNone) {
       }
       EXPECT_EQ(early.mean_score(c, g), full.mean_score(c, g)) << "C " << all.Cs[c] << " gamma " << all.gammas[g];
       const double v = full.mean_score(c, g);
+      if (first < 0) first = v;
+      if (full.cell_offset_decided(static_cast<int>(c), static_cast<int>(g))) continue;  // only the row's start
       fallen = best > first && v <= best - stop.early_stop_drop ? fallen + 1 : 0;
       best = std::max(best, v);
       stopped = fallen >= stop.early_stop_patience;

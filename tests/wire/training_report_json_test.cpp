@@ -28,7 +28,7 @@ TEST(TrainingReportJson, CarriesTheReportsFigures) {
   ASSERT_EQ(j["grid"]["mean_accuracy"][0].size(), rep.grid.gammas.size());
   // (as written to disk: a cell skipped by early stop is null there)
   const nlohmann::json written = nlohmann::json::parse(j.dump());
-  int skipped = 0, capped = 0;
+  int skipped = 0, capped = 0, offset = 0;
   for (std::size_t i = 0; i < rep.grid.Cs.size(); ++i)
     for (std::size_t k = 0; k < rep.grid.gammas.size(); ++k) {
       const double v = rep.grid.mean_score(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
@@ -41,7 +41,12 @@ TEST(TrainingReportJson, CarriesTheReportsFigures) {
       EXPECT_EQ(written["grid"]["capped_fits"][i][k].get<int>(),
                 rep.grid.capped_fits(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)));
       capped += rep.grid.capped_fits(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
+      const int narrow = written["grid"]["narrow_fits"][i][k].get<int>();  // fits decided by the SVM's offset
+      EXPECT_EQ(narrow, rep.grid.narrow_fits(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)));
+      if (!std::isnan(v) && 2 * narrow > opts.grid_splits) ++offset;
     }
+  EXPECT_EQ(written["grid"]["cells_offset_decided"].get<int>(), offset);
+  EXPECT_EQ(written["grid"]["best_offset_decided"].get<bool>(), rep.grid.best_offset_decided);
   EXPECT_EQ(written["grid"]["cells_skipped"].get<int>(), skipped);
   EXPECT_EQ(written["grid"]["capped_fits_total"].get<int>(), capped);
   EXPECT_EQ(written["grid"]["fits"].get<int>(),
