@@ -73,6 +73,7 @@ nlohmann::json training_report_json(const TrainingReport& r) {
          {{"enabled", r.grid.early_stop}, {"drop", r.grid.early_stop_drop}, {"patience", r.grid.early_stop_patience}}},
         {"method", r.grid.method}, {"reason", r.search_reason}, {"search_rows", r.grid.search_rows}}},
       {"train_accuracy", r.train_accuracy},
+      {"train_classes_never_predicted", r.train_classes_never_predicted},
       {"final_fit_capped_solvers", r.final_fit_cap_warnings},
       {"test",
        {{"samples", r.test_indices.size()}, {"accuracy", r.test.accuracy}, {"macro_f1", r.test.macro_f1},

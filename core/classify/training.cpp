@@ -251,6 +251,16 @@ TrainingResult train_classifier(const std::vector<TrainingSample>& samples, cons
   for (Eigen::Index i = 0; i < Xs_train.rows(); ++i) pred_train.push_back(svm.predict_label(Xs_train.row(i).transpose()));
   for (Eigen::Index i = 0; i < Xs_test.rows(); ++i) pred_test.push_back(svm.predict_label(Xs_test.row(i).transpose()));
   rep.train_accuracy = accuracy(y_train, pred_train);
+  {
+    std::vector<bool> predicted(rep.classes.size(), false);
+    for (int p : pred_train) predicted[static_cast<std::size_t>(p)] = true;
+    for (std::size_t c = 0; c < rep.classes.size(); ++c)
+      if (!predicted[c]) rep.train_classes_never_predicted.push_back(rep.classes[c]);
+    if (!rep.train_classes_never_predicted.empty())
+      say("WARNING: the model predicts none of its training samples as " +
+          std::to_string(rep.train_classes_never_predicted.size()) + " of " + std::to_string(rep.classes.size()) +
+          " classes (training accuracy " + std::to_string(rep.train_accuracy) + ")");
+  }
   rep.test = evaluate_predictions(y_test, pred_test, rep.classes);
   for (std::size_t i = 0; i < holdout.test.size(); ++i) {
     rep.test_ids.push_back(samples[holdout.test[i]].id);

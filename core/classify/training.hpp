@@ -84,6 +84,9 @@ struct TrainingReport {
   GridSearchResult grid;                         // grid.method: the search that ran ("grid" or "halving")
   std::string search_reason;                     // why that search (search_plan.hpp)
   double train_accuracy = 0;
+  // Classes the shipped model predicts for none of its own training rows (a model that merged classes: the symptom
+  // of a cell decided by the SVM's offset, decision_spread.hpp, or of classes it cannot tell apart); the report warns.
+  std::vector<std::string> train_classes_never_predicted;
   int final_fit_cap_warnings = 0;                // the shipped model's fit: solvers stopped at libsvm's iteration cap
   ClassificationMetrics test;                    // on the hold-out split
   NestedCvResult nested;

@@ -92,6 +92,12 @@ std::string training_report_table(const TrainingReport& r) {
     if (!r.test_novel.empty()) o << "; " << flagged << " of " << r.test_novel.size() << " held-out samples flagged novel";
     o << "\n";
   }
+  if (!r.train_classes_never_predicted.empty()) {
+    o << "WARNING: the model predicts none of its training samples as";
+    for (const auto& c : r.train_classes_never_predicted) o << " " << c;
+    o << " (" << r.train_classes_never_predicted.size() << " of " << r.classes.size()
+      << " classes): it merged them into others; check the grid's chosen cell and the confusion matrix\n";
+  }
   if (r.final_fit_cap_warnings > 0)
     o << "the final model's fit: " << r.final_fit_cap_warnings << " solvers stopped at libsvm's iteration cap\n";
   o << "train accuracy " << fmt("%.3f", r.train_accuracy) << ", test accuracy " << fmt("%.3f", r.test.accuracy) << " on "

@@ -104,6 +104,35 @@ TEST(Training, ReportsTheFiguresOfTable1AndMore) {
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
 }
 
+// A model that merged classes says so: trained only at the tiny-C corner (every cell decided by the SVM's offset) on
+// unbalanced classes (6, 6, 6, 6, 9, 9 samples), the shipped model predicts its training rows as a few classes; the
+// report names the others and warns. The default grid on the same samples predicts every class.
+TEST(Training, ReportsClassesTheModelNeverPredicts) {
+  std::vector<TrainingSample> samples;
+  int kept[6] = {0, 0, 0, 0, 0, 0};
+  for (auto& s : testing::synthetic_samples(6, 9, 40, 8, 0.9)) {
+    const int c = s.label.back() - 'a';
+    if (c >= 4 || kept[c]++ < 6) samples.push_back(std::move(s));
+  }
+  auto corner = testing::quick_train_options(3);
+  corner.grid.Cs = {1e-2};
+  corner.grid.gammas = {1e-9};
+  corner.nested_repeats = 0;
+  const auto merged = train_classifier(samples, corner);
+  EXPECT_TRUE(merged.report.grid.best_offset_decided);
+  ASSERT_FALSE(merged.report.train_classes_never_predicted.empty());
+  EXPECT_LT(merged.report.train_accuracy, 0.5);
+  const std::string table = training_report_table(merged.report);
+  EXPECT_NE(table.find("WARNING: the model predicts none of its training samples as"), std::string::npos) << table;
+  EXPECT_NE(table.find("WARNING: the chosen cell is decided by the offset"), std::string::npos) << table;
+  auto wide = corner;
+  wide.grid.Cs = decade_grid(-2, 6);
+  wide.grid.gammas = decade_grid(-9, 1);
+  const auto fine = train_classifier(samples, wide);
+  EXPECT_FALSE(fine.report.grid.best_offset_decided);
+  EXPECT_TRUE(fine.report.train_classes_never_predicted.empty()) << training_report_table(fine.report);
+}
+
 TEST(Training, FamiliesAndRefit) {
   const auto samples = testing::synthetic_samples(2, 12, 23);
   for (auto family : {FeatureFamily::Invariants, FeatureFamily::Global, FeatureFamily::Combined}) {

@@ -47,6 +47,7 @@ TEST(TrainingReportJson, CarriesTheReportsFigures) {
     }
   EXPECT_EQ(written["grid"]["cells_offset_decided"].get<int>(), offset);
   EXPECT_EQ(written["grid"]["best_offset_decided"].get<bool>(), rep.grid.best_offset_decided);
+  EXPECT_EQ(written["train_classes_never_predicted"].get<std::vector<std::string>>(), rep.train_classes_never_predicted);
   EXPECT_EQ(written["grid"]["cells_skipped"].get<int>(), skipped);
   EXPECT_EQ(written["grid"]["capped_fits_total"].get<int>(), capped);
   EXPECT_EQ(written["grid"]["fits"].get<int>(),
