@@ -81,7 +81,7 @@ nlohmann::json training_report_json(const TrainingReport& r) {
         {"per_class", per_class}, {"predictions", test_samples}}},
       {"nested_cv",
        {{"folds", r.nested.scores.size()}, {"scores", r.nested.scores}, {"mean", r.nested.mean}, {"std", r.nested.std},
-        {"chosen", chosen}, {"seconds", r.seconds_nested}, {"fits", r.nested.fits},
+        {"chosen", chosen}, {"inner_best_scores", r.nested.inner_scores}, {"seconds", r.seconds_nested}, {"fits", r.nested.fits},
         {"capped_fits", r.nested.capped_fits}, {"cells_skipped", r.nested.cells_skipped},
         {"repeats", r.nested.repeats}, {"outer_folds", r.nested.outer_folds},
         {"interval95", r.nested.interval95 ? json::array({r.nested.interval95->low, r.nested.interval95->high}) : json()}}},
@@ -108,7 +108,8 @@ nlohmann::json training_report_json(const TrainingReport& r) {
 json family_score_json(const FamilyScore& f) {
   return {{"family", f.family},        {"features", f.features},          {"best_C", f.C},
           {"best_gamma", f.gamma},     {"grid_score", f.grid_score},      {"test_accuracy", f.test_accuracy},
-          {"nested_cv_mean", f.nested_mean}, {"nested_cv_std", f.nested_std}};
+          {"nested_cv_mean", f.nested_mean}, {"nested_cv_std", f.nested_std},
+          {"nested_cv_scores", f.nested_scores}, {"nested_cv_inner_best_scores", f.nested_inner_scores}};
 }
 
 json training_run_json(const TrainingReport& report, const TrainingRunInfo& run) {

@@ -150,6 +150,8 @@ FamilyScore family_score(const std::string& family, const TrainingReport& r) {
   s.test_accuracy = r.test.accuracy;
   s.nested_mean = r.nested.mean;
   s.nested_std = r.nested.std;
+  s.nested_scores = r.nested.scores;
+  s.nested_inner_scores = r.nested.inner_scores;
   return s;
 }
 

@@ -75,6 +75,7 @@ struct FamilyScore {
   std::string family;  // "invariants" | "global" | "combined"
   std::size_t features = 0;
   double C = 0, gamma = 0, grid_score = 0, test_accuracy = 0, nested_mean = 0, nested_std = 0;
+  std::vector<double> nested_scores, nested_inner_scores;  // per outer fold (the same folds for every family)
 };
 
 FamilyScore family_score(const std::string& family, const TrainingReport& report);

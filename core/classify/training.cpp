@@ -168,6 +168,7 @@ NestedCvResult nested_cross_validation(const Eigen::MatrixXd& X, const std::vect
     out.capped_fits += res.inner.total_capped_fits();
     out.cells_skipped += res.inner.cells_skipped;
     out.chosen.emplace_back(res.inner.C(), res.inner.gamma());
+    out.inner_scores.push_back(res.inner.best_score);
   }
   if (!out.scores.empty()) {
     double sum = 0;

@@ -65,6 +65,9 @@ struct NestedCvResult {
   int repeats = 0, outer_folds = 0;                 // as run (outer folds are capped at the smallest class)
   std::vector<double> scores;                       // one per outer fold and repeat
   std::vector<std::pair<double, double>> chosen;    // (C, gamma) picked by each inner search
+  // Per outer fold, the inner search's best validation accuracy: computed on the fold's training rows only, so a
+  // choice among feature families by it stays inside the fold (bench/family_selection.py).
+  std::vector<double> inner_scores;
   double mean = 0, std = 0;
   std::optional<Interval> interval95;               // cv_interval.hpp; none for fewer than 2 scores
   // Over every inner grid search: split fits run, fits stopped at libsvm's iteration cap, cells skipped by early stop.

@@ -95,6 +95,8 @@ TEST(Training, ReportsTheFiguresOfTable1AndMore) {
   EXPECT_EQ(rep.test.confusion.sum(), static_cast<int>(rep.test_indices.size()));
   EXPECT_EQ(rep.test_indices.size(), 12u);  // ceil(0.2 * 60)
   EXPECT_EQ(rep.nested.scores.size(), 3u);
+  ASSERT_EQ(rep.nested.inner_scores.size(), rep.nested.scores.size());  // one inner search per outer fold
+  for (double inner : rep.nested.inner_scores) EXPECT_TRUE(inner > 0 && inner <= 1);
   EXPECT_EQ(r.model.training_summary().best_c, rep.grid.C());
   EXPECT_EQ(r.model.training_summary().samples, 60);
   const std::string table = training_report_table(rep);  // the JSON report: tests/wire/training_report_json_test
