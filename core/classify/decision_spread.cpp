@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 
 namespace wish {
 
@@ -30,6 +31,23 @@ double DecisionSpread::spread() const {
   for (std::size_t p = 0; p < low_.size(); ++p)
     if (high_[p] >= low_[p]) s = std::min(s, high_[p] - low_[p]);
   return s;
+}
+
+double fit_decision_spread(const std::vector<int>& model_labels, const std::vector<int>& rows,
+                           const std::vector<int>& labels, const std::function<std::vector<double>(int)>& decision) {
+  std::map<int, std::vector<int>> by_class;  // positions in `rows`, in order
+  for (std::size_t i = 0; i < rows.size(); ++i) by_class[labels[i]].push_back(static_cast<int>(i));
+  DecisionSpread spread(model_labels);
+  for (std::size_t k = 0;; ++k) {
+    bool any = false;
+    for (const auto& [label, positions] : by_class) {
+      if (k >= positions.size()) continue;
+      any = true;
+      spread.add(label, decision(rows[static_cast<std::size_t>(positions[k])]));
+    }
+    if (!any || spread.settled()) break;
+  }
+  return spread.spread();
 }
 
 }  // namespace wish

@@ -97,10 +97,11 @@ PrecomputedKernel::FitScore fit_split(const PrecomputedKernel* kernel, const Spl
   const SvmEngine svm = SvmEngine::train(rows.train_x[s], rows.train_y[s], params, 0, &score.iteration_cap_warnings);
   for (std::size_t i = 0; i < split.test.size(); ++i)
     score.correct += svm.predict_label(rows.test_x[s].row(static_cast<Eigen::Index>(i)).transpose()) == y[split.test[i]];
-  DecisionSpread spread(svm.data().labels);
-  for (std::size_t i = 0; i < split.train.size(); ++i)
-    spread.add(rows.train_y[s][i], svm.predict(rows.train_x[s].row(static_cast<Eigen::Index>(i)).transpose()).decision);
-  score.decision_spread = spread.spread();
+  std::vector<int> positions(split.train.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = static_cast<int>(i);
+  score.decision_spread = fit_decision_spread(svm.data().labels, positions, rows.train_y[s], [&](int i) {
+    return svm.predict(rows.train_x[s].row(static_cast<Eigen::Index>(i)).transpose()).decision;
+  });
   return score;
 }
 

@@ -75,13 +75,14 @@ PrecomputedKernel::FitScore PrecomputedKernel::fit_and_score(const std::vector<i
     score.iteration_cap_warnings = cap.warnings();
   }
   for (int i : test) score.correct += static_cast<int>(svm_predict(model, impl_->row(i))) == y[i];
-  DecisionSpread spread(std::vector<int>(model->label, model->label + model->nr_class));
+  std::vector<int> order_labels;
+  for (int i : order) order_labels.push_back(y[i]);
   std::vector<double> decision(static_cast<std::size_t>(model->nr_class) * (model->nr_class - 1) / 2);
-  for (int i : order) {
-    svm_predict_values(model, impl_->row(i), decision.data());
-    spread.add(y[i], decision);
-  }
-  score.decision_spread = spread.spread();
+  score.decision_spread = fit_decision_spread(std::vector<int>(model->label, model->label + model->nr_class), order,
+                                              order_labels, [&](int row) {
+                                                svm_predict_values(model, impl_->row(row), decision.data());
+                                                return decision;
+                                              });
   svm_free_and_destroy_model(&model);  // free_sv == 0: the nodes are ours
   return score;
 }

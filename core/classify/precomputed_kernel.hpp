@@ -31,8 +31,8 @@ class PrecomputedKernel {
   struct FitScore {
     int correct = 0;              // test rows predicted right (libsvm's one-vs-one vote, as svm_predict)
     int iteration_cap_warnings = 0;  // pairwise solvers of this fit that stopped at libsvm's iteration cap
-    // The fit's decision spread over its own training rows (decision_spread.hpp): below kMarginSpread the fit is
-    // decided by its offset, not its kernel expansion.
+    // The fit's decision spread over its own training rows (decision_spread.hpp: fit_decision_spread, exact below
+    // kMarginSpread, at least kMarginSpread otherwise): below it the fit is decided by its offset, not its kernel.
     double decision_spread = 0;
   };
   // C-SVC (params.C, tolerance, cache, shrinking; no probabilities) on rows `train` with labels y[row] (0..k-1),

@@ -40,6 +40,40 @@ TEST(DecisionSpread, TakesEachPairOverItsOwnRowsInLibsvmsPairOrder) {
   EXPECT_TRUE(std::isinf(DecisionSpread({0, 1}).spread())) << "no rows: nothing to judge";
 }
 
+TEST(DecisionSpread, TheScanStopsOnceSettledAndIsExactWhenNarrow) {
+  // 3 classes x 50 rows, labels in blocks (as a fit's rows are ordered): the round-robin scan meets every class at once.
+  std::vector<int> rows, labels;
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 50; ++i) {
+      rows.push_back(100 + 50 * c + i);
+      labels.push_back(c);
+    }
+  auto label_of = [](int row) { return (row - 100) / 50; };
+  int calls = 0;
+  // Wide: every row sits beyond its margins (+-1.5 on the pairs it belongs to).
+  const double wide = fit_decision_spread({0, 1, 2}, rows, labels, [&](int row) {
+    ++calls;
+    const int c = label_of(row);
+    return std::vector<double>{c == 0 ? 1.5 : -1.5, c == 0 ? 1.5 : -1.5, c == 1 ? 1.5 : -1.5};
+  });
+  EXPECT_GE(wide, kMarginSpread);
+  EXPECT_EQ(calls, 3) << "one row of each class settles every pair";
+  // Narrow: a pair that never spans the margin makes the scan read every row, and the value is the exact minimum.
+  calls = 0;
+  DecisionSpread all({0, 1, 2});
+  auto narrow_decision = [&](int row) {
+    ++calls;
+    const int c = label_of(row), i = (row - 100) % 50;
+    return std::vector<double>{c == 0 ? 1.5 : -1.5, 0.01 * i - 0.2 * c, c == 1 ? 1.5 : -1.5};
+  };
+  for (std::size_t k = 0; k < rows.size(); ++k) all.add(labels[k], narrow_decision(rows[k]));
+  calls = 0;
+  const double narrow = fit_decision_spread({0, 1, 2}, rows, labels, narrow_decision);
+  EXPECT_EQ(calls, 150);
+  EXPECT_DOUBLE_EQ(narrow, all.spread());
+  EXPECT_NEAR(narrow, 0.49 + 0.4, 1e-12);  // pair (0, 2): 0.49 (class 0, i = 49) down to -0.4 (class 2, i = 0)
+}
+
 // Two Gaussian blobs in 2-D, 14 and 8 points (unequal on purpose), 4 standard deviations apart.
 void blobs(Eigen::MatrixXd& X, std::vector<int>& y) {
   std::mt19937_64 rng(5);
