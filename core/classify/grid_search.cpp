@@ -53,8 +53,7 @@ void parallel_for(int n, int jobs, const std::function<void(int)>& f) {
 }
 
 bool GridSearchResult::cell_offset_decided(int ci, int gi) const {
-  return narrow_fits.size() && splits_per_cell.size() && !std::isnan(mean_score(ci, gi)) &&
-         offset_decided(narrow_fits(ci, gi), splits_per_cell(ci, gi));
+  return narrow_fits.size() && !std::isnan(mean_score(ci, gi)) && offset_decided(narrow_fits(ci, gi), splits_per_cell);
 }
 
 bool EarlyStopRow::stop_after(double mean, bool offset_decided) {
@@ -213,7 +212,7 @@ GridSearchResult grid_search(const Eigen::MatrixXd& X, const std::vector<int>& y
   r.std_score.setZero(nc, ng);
   r.capped_fits.setZero(nc, ng);
   r.narrow_fits.setZero(nc, ng);
-  r.splits_per_cell.setConstant(nc, ng, static_cast<int>(splits.size()));
+  r.splits_per_cell = static_cast<int>(splits.size());
   r.cell_cpu_seconds.setZero(nc, ng);
   if (!options.precomputed_kernel && !options.early_stop) exhaustive_rbf_cells(X, y, splits, options, r);
   else row_wise_cells(X, y, splits, options, r);

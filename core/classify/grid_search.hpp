@@ -25,9 +25,9 @@
 // the margin width is never the best cell while any other cell was scored (if every cell is, the best of them is
 // chosen and best_offset_decided says so), and for the early-stop rule it is at most the row's start, never its best
 // or a fall (its score comes from the validation splits' class balance, not from the kernel: a high one must not stop
-// the row before the kernel's cells). Why: such a cell can
-// win on the balanced validation splits and then, refitted on all rows with their real imbalance, put every sample
-// into the larger class (measured on demo48: validation 0.812, the final model's training accuracy 0.368).
+// the row before the kernel's cells). Why: such a cell can win on the balanced validation splits and then, refitted
+// on all rows with their real imbalance, put every sample into the larger class (measured on demo48: validation
+// 0.812, the final model's training accuracy 0.368).
 
 #include <functional>
 #include <string>
@@ -64,10 +64,10 @@ struct GridSearchResult {
   Eigen::MatrixXd mean_score, std_score;  // Cs.size() by gammas.size(); NaN where early stop skipped the cell
   Eigen::MatrixXi capped_fits;            // per cell: split fits with a solver stopped at libsvm's iteration cap
   Eigen::MatrixXi narrow_fits;            // per cell: split fits decided by the offset (decision_spread.hpp)
-  Eigen::MatrixXi splits_per_cell;        // per cell: split fits its score (and narrow_fits) counts
   Eigen::MatrixXd cell_cpu_seconds;       // per cell: CPU time of its split fits (thread CPU clock; bench/ profiles)
   int fits = 0;                           // split fits run (cells evaluated x splits)
   int cells_skipped = 0;                  // by early stop
+  int splits_per_cell = 0;                // split fits behind each scored cell's score (and its narrow_fits)
   int cells_offset_decided = 0;           // scored cells most of whose fits were decided by the offset
   bool best_offset_decided = false;       // every scored cell was: the best of them was chosen anyway
   bool early_stop = false;                // the options the search ran with (for the report)

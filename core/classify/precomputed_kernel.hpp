@@ -36,8 +36,8 @@ class PrecomputedKernel {
     double decision_spread = 0;
   };
   // C-SVC (params.C, tolerance, cache, shrinking; no probabilities) on rows `train` with labels y[row] (0..k-1),
-  // scored on rows `test`, with the fit's decision spread over rows `train`. Rows are stably ordered by label before training, as SvmEngine::train does, so the vote
-  // order and ties are the same as a plain RBF fit's. Thread-safe: concurrent fits only read the nodes.
+  // scored on rows `test`, with the fit's decision spread over rows `train`. Rows are stably ordered by label before
+  // training, as SvmEngine::train does, so the vote order and ties are the same as a plain RBF fit's. Thread-safe: concurrent fits only read the nodes.
   FitScore fit_and_score(const std::vector<int>& train, const std::vector<int>& test, const std::vector<int>& y,
                          const SvmParams& params) const;
 

@@ -166,7 +166,7 @@ GridSearchResult successive_halving(const Eigen::MatrixXd& X, const std::vector<
   r.std_score.setConstant(nc, ng, std::numeric_limits<double>::quiet_NaN());
   r.capped_fits.setZero(nc, ng);
   r.narrow_fits.setZero(nc, ng);
-  r.splits_per_cell.setZero(nc, ng);
+  r.splits_per_cell = options.splits;  // every rung's splits
   r.cell_cpu_seconds.setZero(nc, ng);
   r.cell_rung.setConstant(nc, ng, -1);
 
@@ -198,7 +198,6 @@ GridSearchResult successive_halving(const Eigen::MatrixXd& X, const std::vector<
       r.std_score(ci, gi) = scores[p].std;
       r.capped_fits(ci, gi) += scores[p].capped;
       r.narrow_fits(ci, gi) = scores[p].narrow;  // of the rung its mean_score comes from
-      r.splits_per_cell(ci, gi) = static_cast<int>(splits.size());
       r.cell_cpu_seconds(ci, gi) += scores[p].cpu;
       r.cell_rung(ci, gi) = static_cast<int>(rung);
     }

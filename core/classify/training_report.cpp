@@ -194,7 +194,7 @@ std::string grid_heatmap_svg(const GridSearchResult& g, const std::string& title
         << "\"><title>" << where << ": " << fmt("%.3f", v)
         << (capped ? "; " + std::to_string(capped) + " fits stopped at the iteration cap" : std::string())
         << (offset ? "; decided by the offset in " + std::to_string(g.narrow_fits(ci, gi)) + " of " +
-                         std::to_string(g.splits_per_cell(ci, gi)) + " fits"
+                         std::to_string(g.splits_per_cell) + " fits"
                    : std::string())
         << "</title></rect>\n";
       o << "<text x=\"" << x + cell / 2 << "\" y=\"" << y + cell / 2 + 4 << "\" text-anchor=\"middle\" font-size=\"9\" fill=\""

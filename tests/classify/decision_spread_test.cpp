@@ -59,7 +59,6 @@ TEST(DecisionSpread, TheScanStopsOnceSettledAndIsExactWhenNarrow) {
   EXPECT_GE(wide, kMarginSpread);
   EXPECT_EQ(calls, 3) << "one row of each class settles every pair";
   // Narrow: a pair that never spans the margin makes the scan read every row, and the value is the exact minimum.
-  calls = 0;
   DecisionSpread all({0, 1, 2});
   auto narrow_decision = [&](int row) {
     ++calls;
