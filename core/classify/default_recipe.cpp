@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "core/classify/feature_pipeline.hpp"  // to_string(FeatureFamily)
+
 namespace wish {
 
 DescriptorRecipe default_training_recipe() {
