@@ -1,15 +1,19 @@
 # One static library per area of core/ (core/<area>/*.cpp), so that an area builds and tests on its own.
-#   wish_add_area(<area> DEPS <other wish_ areas or targets>...)
+#   wish_add_area(<area> [GLUE] DEPS <other wish_ areas or targets>...)   GLUE: see wish_speed_up
 # creates target wish_<area> with the repository root as include directory (#include "core/<area>/x.hpp").
 function(wish_add_area area)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "GLUE" "" "DEPS" ${ARGN})
+  set(speed_up_options)
+  if(ARG_GLUE)
+    set(speed_up_options GLUE)
+  endif()
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${area}/*.cpp)
   if(sources)
     add_library(wish_${area} STATIC ${sources})
     target_include_directories(wish_${area} PUBLIC ${WISH_SOURCE_DIR})
     target_link_libraries(wish_${area} PUBLIC ${ARG_DEPS})
     wish_target_warnings(wish_${area})
-    wish_speed_up(wish_${area})
+    wish_speed_up(wish_${area} ${speed_up_options})
   else()
     add_library(wish_${area} INTERFACE)
     target_include_directories(wish_${area} INTERFACE ${WISH_SOURCE_DIR})

@@ -24,12 +24,26 @@ set(WISH_PCH_HEADERS
   <Eigen/Core> <Eigen/Geometry> <Eigen/SparseCore>
   <nlohmann/json.hpp>)
 
+# The service's glue (HTTP, JSON wire format, command-line parsing, the pipeline's orchestration: targets passed to
+# wish_speed_up with GLUE) is compiled at WISH_GLUE_OPTIMIZATION in Release builds instead of -O3: its run time is
+# a few milliseconds of a request's hundreds (the numerical areas keep -O3), while -O3 is about a third of its
+# compile time (docs/benchmarks.md, "Third pass": a bare machine to a served page). GCC records a function's
+# optimisation level where the function is parsed, so the Eigen, JSON and standard-library templates of a header
+# precompiled at -O3 stay -O3 in a file compiled at -O1: the glue has its own precompiled header, wish_glue_pch.
+set(WISH_GLUE_OPTIMIZATION "-O1" CACHE STRING "Optimisation of the service's glue code in Release builds")
+set(WISH_GLUE_COMPILE_OPTIONS $<$<CONFIG:Release>:${WISH_GLUE_OPTIMIZATION}>)
+
 if(WISH_PCH)
   file(WRITE ${CMAKE_BINARY_DIR}/wish_pch.cpp "// The translation unit that builds the shared precompiled header.\n")
   add_library(wish_pch STATIC ${CMAKE_BINARY_DIR}/wish_pch.cpp)
   target_link_libraries(wish_pch PRIVATE Eigen3::Eigen OpenMP::OpenMP_CXX nlohmann_json::nlohmann_json)
   target_precompile_headers(wish_pch PRIVATE ${WISH_PCH_HEADERS})
   wish_target_warnings(wish_pch)
+  add_library(wish_glue_pch STATIC ${CMAKE_BINARY_DIR}/wish_pch.cpp)
+  target_link_libraries(wish_glue_pch PRIVATE Eigen3::Eigen OpenMP::OpenMP_CXX nlohmann_json::nlohmann_json)
+  target_precompile_headers(wish_glue_pch PRIVATE ${WISH_PCH_HEADERS})
+  target_compile_options(wish_glue_pch PRIVATE ${WISH_GLUE_COMPILE_OPTIONS})
+  wish_target_warnings(wish_glue_pch)
   if(WISH_BUILD_TESTS)
     add_library(wish_test_pch STATIC ${CMAKE_BINARY_DIR}/wish_pch.cpp)
     target_link_libraries(wish_test_pch PRIVATE Eigen3::Eigen OpenMP::OpenMP_CXX nlohmann_json::nlohmann_json
@@ -40,12 +54,18 @@ if(WISH_PCH)
 endif()
 
 # Called by wish_add_area, wish_add_gtests and the other CMakeLists for each of their targets.
-#   wish_speed_up(<target> [TEST])   TEST: a test program (its precompiled header includes GoogleTest)
+#   wish_speed_up(<target> [TEST] [GLUE])   TEST: a test program (its precompiled header includes GoogleTest);
+#                                           GLUE: the service's glue, compiled at WISH_GLUE_OPTIMIZATION (above)
 function(wish_speed_up target)
-  cmake_parse_arguments(ARG "TEST" "" "" ${ARGN})
+  cmake_parse_arguments(ARG "TEST;GLUE" "" "" ${ARGN})
+  if(ARG_GLUE)
+    target_compile_options(${target} PRIVATE ${WISH_GLUE_COMPILE_OPTIONS})
+  endif()
   if(WISH_PCH)
     if(ARG_TEST AND TARGET wish_test_pch)
       target_precompile_headers(${target} REUSE_FROM wish_test_pch)
+    elseif(ARG_GLUE)
+      target_precompile_headers(${target} REUSE_FROM wish_glue_pch)
     else()
       target_precompile_headers(${target} REUSE_FROM wish_pch)
     endif()

@@ -5,10 +5,9 @@
 #include <limits>
 #include <string>
 
-#include <Eigen/Eigenvalues>
-
 #include "core/classify/splits.hpp"
 #include "core/common/errors.hpp"
+#include "core/linalg/symmetric_eigen.hpp"
 
 namespace wish {
 
@@ -162,9 +161,13 @@ Eigen::MatrixXd within_class_whitening(const Eigen::MatrixXd& Xs, const std::vec
   const Eigen::MatrixXd C = (1 - s) * S + s * mu * Eigen::MatrixXd::Identity(p, p);
   // C^(-1/2) by the symmetric eigendecomposition; s > 0 or a full-rank S keeps the eigenvalues positive, and a
   // floor at 1e-12 of the largest guards the exact-fit case (s = 0 with a singular S).
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(C);
-  const Eigen::VectorXd ev = eig.eigenvalues().cwiseMax(1e-12 * eig.eigenvalues().maxCoeff());
-  return eig.eigenvectors() * ev.cwiseSqrt().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  const linalg::SymmetricEigen eig = linalg::symmetric_eigen(C);
+  if (!eig.converged)
+    throw WishError(ErrorCategory::Internal, "internal",
+                    "within-class whitening: the symmetric eigensolver did not converge on the " + std::to_string(p) +
+                        " x " + std::to_string(p) + " shrunk covariance");
+  const Eigen::VectorXd ev = eig.values.cwiseMax(1e-12 * eig.values.maxCoeff());
+  return eig.vectors * ev.cwiseSqrt().cwiseInverse().asDiagonal() * eig.vectors.transpose();
 }
 
 NoveltyCalibration calibrate_novelty(const Eigen::MatrixXd& Xs, const std::vector<int>& y, int k, double quantile,

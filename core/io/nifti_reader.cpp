@@ -15,10 +15,10 @@
 namespace wish::io_detail {
 namespace {
 
-constexpr const char* kFormat = "nifti";
+constexpr const char* kNiftiFormat = "nifti";
 
 [[noreturn]] void fail(const std::string& message, const std::string& field) {
-  throw InvalidInputError("parse_error", "NIfTI-1: " + message, {{"format", std::string(kFormat)}, {"field", field}});
+  throw InvalidInputError("parse_error", "NIfTI-1: " + message, {{"format", std::string(kNiftiFormat)}, {"field", field}});
 }
 
 // The first `want` bytes of the gzip stream (fewer when it ends first). Only what is asked for is allocated, so the
@@ -47,7 +47,7 @@ std::string inflate_prefix(std::string_view gz, std::size_t want) {
       inflateEnd(&zs);
       throw InvalidInputError("parse_error", "NIfTI-1: gzip data is corrupt after " + std::to_string(produced) +
                                                  " decompressed bytes (" + why + ")",
-                              {{"format", std::string(kFormat)}, {"field", std::string("gzip")},
+                              {{"format", std::string(kNiftiFormat)}, {"field", std::string("gzip")},
                                {"byte_offset", static_cast<std::int64_t>(produced)}});
     }
     if (zs.avail_in == 0 && consumed >= gz.size() && zs.avail_out != 0) break;  // input exhausted
@@ -115,7 +115,7 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
   if (!voxel_type(datatype, type))
     throw InvalidInputError("unsupported_datatype", "NIfTI-1 datatype " + std::to_string(datatype) +
                                                         " is not a label type (uint8, int8, int16, uint16, int32, uint32, float32, float64)",
-                            {{"format", std::string(kFormat)}, {"datatype", static_cast<std::int64_t>(datatype)}});
+                            {{"format", std::string(kNiftiFormat)}, {"datatype", static_cast<std::int64_t>(datatype)}});
   const int bitpix = field<std::int16_t>(h, 72, swap);
   if (bitpix != 8 * byte_size(type))
     fail("bitpix is " + std::to_string(bitpix) + " but datatype " + to_string(type) + " has " +
@@ -123,7 +123,7 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
   const float vox_offset = field<float>(h, 108, swap);
   if (!(std::isfinite(vox_offset) && vox_offset >= 348 && vox_offset == std::floor(vox_offset) && vox_offset < 1e9f))
     fail("vox_offset " + std::to_string(vox_offset) + " is not a whole byte offset >= 348", "vox_offset");
-  const std::int64_t n = checked_voxel_count(dim[1], dim[2], dim[3], limits, kFormat);
+  const std::int64_t n = checked_voxel_count(dim[1], dim[2], dim[3], limits, kNiftiFormat);
   const std::uint64_t offset = static_cast<std::uint64_t>(vox_offset);
   const std::uint64_t need = offset + static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(byte_size(type));
   std::string_view data;
@@ -138,7 +138,7 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
     throw InvalidInputError("parse_error", "NIfTI-1: truncated: " + std::to_string(n) + " voxels of " + to_string(type) +
                                                " at offset " + std::to_string(offset) + " need " + std::to_string(need) +
                                                " bytes, the data has " + std::to_string(data.size()),
-                            {{"format", std::string(kFormat)}, {"field", std::string("data")},
+                            {{"format", std::string(kNiftiFormat)}, {"field", std::string("data")},
                              {"byte_offset", static_cast<std::int64_t>(data.size())}});
 
   VolumeReadResult r;
@@ -148,7 +148,7 @@ VolumeReadResult read_nifti(std::string_view bytes, const VolumeReadLimits& limi
   r.image.labels.resize(static_cast<std::size_t>(n));
   if (probabilities) r.image.probability_scale = volume::LabelImage::kProbabilityScale;
   convert_labels(reinterpret_cast<const unsigned char*>(data.data() + offset), n, type, swap, r.image.labels.data(), 0,
-                 kFormat, r.image.probability_scale);
+                 kNiftiFormat, r.image.probability_scale);
 
   bool spacing_ok = true;
   for (int k = 0; k < 3; ++k) {

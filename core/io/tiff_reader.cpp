@@ -20,7 +20,7 @@
 namespace wish::io_detail {
 namespace {
 
-constexpr const char* kFormat = "tiff";
+constexpr const char* kTiffFormat = "tiff";
 
 struct MemoryFile {
   std::string_view bytes;
@@ -63,7 +63,7 @@ int on_warning(TIFF*, void*, const char*, const char*, va_list) { return 1; }
 [[noreturn]] void fail(const MemoryFile& f, const std::string& message, std::int64_t page) {
   std::string m = "TIFF: " + message;
   if (!f.first_error.empty()) m += " (" + f.first_error + ")";
-  throw InvalidInputError("parse_error", m, {{"format", std::string(kFormat)}, {"page", page}});
+  throw InvalidInputError("parse_error", m, {{"format", std::string(kTiffFormat)}, {"page", page}});
 }
 
 // The number after `key` in `text` (e.g. "spacing=" -> 0.5), or nothing.
@@ -142,8 +142,8 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
     throw InvalidInputError("unsupported_datatype", "TIFF pages of " + std::to_string(samples) + " sample(s) of " +
                                                         std::to_string(bits) + " bits (format " + std::to_string(format) +
                                                         ") are not a label image: one 8/16/32-bit integer or float sample per pixel",
-                            {{"format", std::string(kFormat)}, {"datatype", std::to_string(bits) + "-bit"}});
-  const std::int64_t n = checked_voxel_count(width, height, pages, limits, kFormat);
+                            {{"format", std::string(kTiffFormat)}, {"datatype", std::to_string(bits) + "-bit"}});
+  const std::int64_t n = checked_voxel_count(width, height, pages, limits, kTiffFormat);
 
   VolumeReadResult r;
   r.format = VolumeFormat::Tiff;
@@ -184,7 +184,7 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
           for (std::uint32_t yy = 0; yy < th && ty + yy < height; ++yy) {
             const std::uint32_t cols = std::min(tw, width - tx);
             convert_labels(buffer.data() + static_cast<std::size_t>(yy) * tw * bs, cols, type, false, row.data(),
-                           (z * height + ty + yy) * static_cast<std::int64_t>(width) + tx, kFormat,
+                           (z * height + ty + yy) * static_cast<std::int64_t>(width) + tx, kTiffFormat,
                            r.image.probability_scale);
             std::memcpy(slice + static_cast<std::size_t>(ty + yy) * width + tx, row.data(), cols * sizeof(std::uint32_t));
           }
@@ -198,7 +198,7 @@ VolumeReadResult read_tiff(std::string_view bytes, const VolumeReadLimits& limit
         if (TIFFReadScanline(tif, buffer.data(), y, 0) < 0) fail(file, "cannot decode row " + std::to_string(y), z);
         // libtiff returns samples in the machine's byte order.
         convert_labels(buffer.data(), width, type, false, slice + static_cast<std::size_t>(y) * width,
-                       (z * height + y) * static_cast<std::int64_t>(width), kFormat, r.image.probability_scale);
+                       (z * height + y) * static_cast<std::int64_t>(width), kTiffFormat, r.image.probability_scale);
       }
     }
   }

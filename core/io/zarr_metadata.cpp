@@ -14,20 +14,20 @@ namespace wish::io_detail {
 namespace {
 
 using nlohmann::json;
-constexpr const char* kFormat = "ome-zarr";
+constexpr const char* kZarrFormat = "ome-zarr";
 constexpr std::size_t kMaxDimensions = 32;
 
 [[noreturn]] void bad(const std::string& key, const std::string& what) {
   throw InvalidInputError("parse_error", "OME-Zarr " + key + ": " + what,
-                          {{"format", std::string(kFormat)}, {"key", key}});
+                          {{"format", std::string(kZarrFormat)}, {"key", key}});
 }
 [[noreturn]] void invalid(const std::string& key, const std::string& what) {
   throw InvalidInputError("invalid_volume", "OME-Zarr " + key + ": " + what,
-                          {{"format", std::string(kFormat)}, {"key", key}});
+                          {{"format", std::string(kZarrFormat)}, {"key", key}});
 }
 [[noreturn]] void unsupported(const std::string& key, const std::string& what) {
   throw WishError(ErrorCategory::UnsupportedFormat, "unsupported_format", "OME-Zarr " + key + ": " + what,
-                  {{"format", std::string(kFormat)}, {"key", key}});
+                  {{"format", std::string(kZarrFormat)}, {"key", key}});
 }
 [[noreturn]] void bad_parameter(const std::string& parameter, const std::string& what) {
   throw InvalidInputError("invalid_parameter", "OME-Zarr: " + what, {{"parameter", parameter}});
@@ -88,13 +88,13 @@ struct Dtype {
 Dtype parse_dtype(const std::string& key, const json& v) {
   if (!v.is_string())
     throw InvalidInputError("unsupported_datatype", "OME-Zarr " + key + ": structured dtypes are not label types",
-                            {{"format", std::string(kFormat)}, {"datatype", v.dump()}});
+                            {{"format", std::string(kZarrFormat)}, {"datatype", v.dump()}});
   const std::string d = v.get<std::string>();
   auto refuse = [&]() -> Dtype {
     throw InvalidInputError("unsupported_datatype", "OME-Zarr " + key + ": dtype '" + d +
                                                         "' is not a label type (u1, u2, u4, u8, i1, i2, i4, i8, f4, f8, b1; "
                                                         "either byte order)",
-                            {{"format", std::string(kFormat)}, {"datatype", d}});
+                            {{"format", std::string(kZarrFormat)}, {"datatype", d}});
   };
   if (d.size() < 3 || std::string_view("<>|=").find(d[0]) == std::string_view::npos) refuse();
   const std::string body = d.substr(1);
@@ -386,7 +386,7 @@ ZarrArrayPlan plan_zarr_read(const ZarrStore& store, const VolumeReadOptions& op
   // 7. Limits, before anything is allocated: the volume, one chunk, and the chunk grid as a whole (many chunks each
   // far larger than the volume would be decoded for nothing).
   const std::int64_t n = checked_voxel_count(plan.shape[plan.space_dim[0]], plan.shape[plan.space_dim[1]],
-                                             plan.shape[plan.space_dim[2]], options.limits, kFormat);
+                                             plan.shape[plan.space_dim[2]], options.limits, kZarrFormat);
   const std::int64_t allowed = options.limits.max_voxels;
   auto over = [&](const std::string& what, double value, std::int64_t limit) {
     throw LimitExceededError("OME-Zarr " + zkey + ": " + what + " exceeds the limit of " + std::to_string(limit) + " voxels",

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <random>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
 #include "core/linalg/sparse_cholesky.hpp"
+#include "core/linalg/symmetric_eigen.hpp"
 
 namespace wish::linalg {
 
@@ -62,16 +62,16 @@ Eigen::VectorXd relative_residuals(const Eigen::SparseMatrix<double>& L, const E
 GeneralizedEigenResult dense_solve(const Eigen::SparseMatrix<double>& L, const Eigen::VectorXd& mass, int count, double shift) {
   const Eigen::VectorXd s = mass.cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd C = s.asDiagonal() * Eigen::MatrixXd(L) * s.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (C + C.transpose()));
+  const SymmetricEigen eig = symmetric_eigen(0.5 * (C + C.transpose()));
   GeneralizedEigenResult r;
-  if (eig.info() != Eigen::Success) {
+  if (!eig.converged) {
     r.status = EigenStatus::NotConverged;
     r.message = "dense symmetric eigensolver did not converge";
     return r;
   }
   const int k = std::min<int>(count, static_cast<int>(L.rows()));
-  r.values = eig.eigenvalues().head(k);
-  r.vectors = s.asDiagonal() * eig.eigenvectors().leftCols(k);
+  r.values = eig.values.head(k);
+  r.vectors = s.asDiagonal() * eig.vectors.leftCols(k);
   r.residuals = relative_residuals(L, mass, r.values, r.vectors, shift);
   r.status = EigenStatus::Converged;
   return r;
@@ -138,8 +138,8 @@ GeneralizedEigenResult smallest_generalized_eigenpairs(const Eigen::SparseMatrix
       current = w;
     }
     const Eigen::MatrixXd T = Q.transpose() * W;
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (T + T.transpose()));
-    if (eig.info() != Eigen::Success) {
+    const SymmetricEigen eig = symmetric_eigen(0.5 * (T + T.transpose()));
+    if (!eig.converged) {
       result.status = EigenStatus::NotConverged;
       result.message = "the Rayleigh-Ritz eigensolver did not converge";
       return result;
@@ -149,8 +149,8 @@ GeneralizedEigenResult smallest_generalized_eigenpairs(const Eigen::SparseMatrix
     Eigen::MatrixXd V(m, block);
     Eigen::VectorXd theta(block);
     for (int j = 0; j < block; ++j) {
-      V.col(j) = eig.eigenvectors().col(m - 1 - j);
-      theta(j) = eig.eigenvalues()(m - 1 - j);
+      V.col(j) = eig.vectors.col(m - 1 - j);
+      theta(j) = eig.values(m - 1 - j);
     }
     X = Q * V;
     if (!(theta.head(count).array() > 0).all()) {

@@ -9,6 +9,7 @@
 
 #include "core/classify/global_descriptors.hpp"
 #include "core/classify/laplace_spectrum.hpp"
+#include "core/common/elapsed.hpp"
 #include "core/sh/sh_canonical_frame.hpp"
 #include "core/common/stage_profile.hpp"
 #include "core/sh/sh_fit.hpp"
@@ -18,10 +19,6 @@ namespace wish {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // A map that failed verification is never passed on as a success (docs/design/spherical-map.md §7).
 void require_verified_map(const SphericalMapResult& map) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/common/elapsed.hpp"
 #include "core/geometry/cotan_laplacian.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
@@ -15,7 +16,6 @@
 namespace wish::spherical {
 namespace {
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Willmore energy for the step trace, from the mollified operator (finite on zero-area faces).
 double robust_willmore_energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3i& faces,

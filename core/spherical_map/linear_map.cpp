@@ -12,6 +12,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "core/common/elapsed.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
 #include "core/linalg/sparse_cholesky.hpp"
 
@@ -19,7 +20,6 @@ namespace wish::spherical {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::uint64_t pair_key(int i, int j) {
   return (static_cast<std::uint64_t>(std::min(i, j)) << 32) | static_cast<std::uint32_t>(std::max(i, j));

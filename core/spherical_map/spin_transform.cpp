@@ -5,15 +5,12 @@
 #include <complex>
 #include <type_traits>
 
+#include "core/common/elapsed.hpp"
 #include "core/linalg/lower_hermitian_product.hpp"
 #include "core/spherical_map/quaternion.hpp"
 
 namespace wish::spherical {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 Quaternion lambda_at(const Eigen::VectorXd& lambda, int i) {
   return {lambda[4 * i], lambda[4 * i + 1], lambda[4 * i + 2], lambda[4 * i + 3]};

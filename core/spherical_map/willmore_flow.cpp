@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/elapsed.hpp"
 #include "core/common/stage_profile.hpp"
 #include "core/geometry/face_geometry.hpp"
 #include "core/geometry/intrinsic_laplacian.hpp"
@@ -22,7 +23,6 @@ namespace wish::spherical {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Above this many vertices the Dirac and the Poisson factor are never alive at once: each step frees one's values
 // before the other is factored (a 160K-vertex map stays under 1 GiB; the Dirac factor alone is ~0.5 GiB there). At

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/common/elapsed.hpp"
 #include "core/volume/binary_volume.hpp"
 #include "core/volume/decimation.hpp"
 #include "core/volume/marching_tetrahedra.hpp"
@@ -17,7 +18,6 @@ namespace wish::volume {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 std::int64_t count_foreground(const BinaryVolume& v) {
   std::int64_t n = 0;
@@ -31,7 +31,7 @@ int genus_of(const SurfaceTopology& t) {
   return static_cast<int>((2 - t.euler) / 2);
 }
 
-std::string fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+std::string format_numbers(const char* format, double a, double b = 0, double c = 0, double d = 0) {
   char buf[320];
   std::snprintf(buf, sizeof buf, format, a, b, c, d);
   return buf;
@@ -43,10 +43,10 @@ int clean(BinaryVolume& box, std::vector<std::string>& repairs) {
   const int pieces = keep_largest_component(box);
   const std::int64_t kept = count_foreground(box);
   if (pieces > 1)
-    repairs.push_back(fmt("kept the largest of %.0f pieces (dropped %.0f voxels)", pieces, static_cast<double>(before - kept)));
+    repairs.push_back(format_numbers("kept the largest of %.0f pieces (dropped %.0f voxels)", pieces, static_cast<double>(before - kept)));
   const int cavities = fill_cavities(box);
   if (cavities > 0)
-    repairs.push_back(fmt("filled %.0f internal cavities (%.0f voxels)", cavities, static_cast<double>(count_foreground(box) - kept)));
+    repairs.push_back(format_numbers("filled %.0f internal cavities (%.0f voxels)", cavities, static_cast<double>(count_foreground(box) - kept)));
   return pieces;
 }
 
@@ -57,15 +57,15 @@ std::string handle_findings(const ObjectSurface& s, const SurfaceOptions& option
     std::string ids;
     for (std::size_t k = 0; k < s.touching_ids.size() && k < 8; ++k) ids += (k ? ", " : "") + std::to_string(s.touching_ids[k]);
     if (s.touching_ids.size() > 8) ids += ", ...";
-    out += fmt("; it touches %.0f other object(s) on %.0f voxels (", static_cast<double>(s.touching_ids.size()),
+    out += format_numbers("; it touches %.0f other object(s) on %.0f voxels (", static_cast<double>(s.touching_ids.size()),
                static_cast<double>(s.touching_voxels)) + ids + "): objects touching in a loop make handles";
   } else {
     out += "; it touches no other object";
   }
-  if (s.pieces > 1) out += fmt("; it has %.0f separate pieces (the largest was meshed)", s.pieces);
+  if (s.pieces > 1) out += format_numbers("; it has %.0f separate pieces (the largest was meshed)", s.pieces);
   out += "; the repair that removes the handles (" + s.repair.describe() + ")" +
          (options.max_repair_share > 0
-              ? fmt(" changes more than the bound of %.2f %% (--max-repair-share %.4g or --close-handles keep it)",
+              ? format_numbers(" changes more than the bound of %.2f %% (--max-repair-share %.4g or --close-handles keep it)",
                     100 * options.max_repair_share, s.repair.volume_change() * 1.0001)
               : std::string(" is not applied: handle repair is off (--no-close-handles)"));
   return out;
@@ -128,7 +128,7 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
   }
   if (box_voxels > options.max_box_voxels) {
     out.refusal_code = "box_too_large";
-    out.refusal = fmt("padded bounding box of %.0f voxels exceeds the limit of %.0f", static_cast<double>(box_voxels),
+    out.refusal = format_numbers("padded bounding box of %.0f voxels exceeds the limit of %.0f", static_cast<double>(box_voxels),
                       static_cast<double>(options.max_box_voxels));
     return out;
   }
@@ -173,7 +173,7 @@ ObjectSurface object_surface(const LabelImage& image, const ObjectSet& objects, 
       out.refusal = "the voxel surface is not one closed manifold (" + topology.describe() + ")";
     } else {
       out.refusal_code = "genus_nonzero";
-      out.refusal = fmt("the surface has genus %.0f (%.0f handle(s)); WISH maps genus-0 surfaces only", final_genus, final_genus) +
+      out.refusal = format_numbers("the surface has genus %.0f (%.0f handle(s)); WISH maps genus-0 surfaces only", final_genus, final_genus) +
                     handle_findings(out, options);
     }
     return out;
