@@ -27,7 +27,7 @@ set(WISH_PCH_HEADERS
 # The service's glue (HTTP, JSON wire format, command-line parsing, the pipeline's orchestration: targets passed to
 # wish_speed_up with GLUE) is compiled at WISH_GLUE_OPTIMIZATION in Release builds instead of -O3: its run time is
 # a few milliseconds of a request's hundreds (the numerical areas keep -O3), while -O3 is about a third of its
-# compile time (docs/benchmarks.md, "Third pass": a bare machine to a served page). GCC records a function's
+# compile time (docs/benchmarks.md, "Third pass: the service's glue at -O1, one eigensolver"). GCC records a function's
 # optimisation level where the function is parsed, so the Eigen, JSON and standard-library templates of a header
 # precompiled at -O3 stay -O3 in a file compiled at -O1: the glue has its own precompiled header, wish_glue_pch.
 set(WISH_GLUE_OPTIMIZATION "-O1" CACHE STRING "Optimisation of the service's glue code in Release builds")

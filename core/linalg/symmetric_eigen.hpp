@@ -2,8 +2,8 @@
 // The eigendecomposition of a dense symmetric matrix: Eigen's SelfAdjointEigenSolver (Householder tridiagonalisation,
 // then implicit symmetric QR steps), behind a plain function so that the solver is compiled once, here. Each
 // translation unit that instantiates SelfAdjointEigenSolver<MatrixXd> spends about 15 CPU s of the compiler on it
-// (measured at -O3, docs/benchmarks.md "Third pass": a bare machine to a served page), and the service's build
-// had it twice (the novelty whitening and the generalised eigensolver's Rayleigh-Ritz step).
+// at -O3, and the service's build had it twice: the novelty whitening and the generalised eigensolver's
+// Rayleigh-Ritz step (docs/benchmarks.md, "Third pass: the service's glue at -O1, one eigensolver").
 
 #include <Eigen/Core>
 
