@@ -44,8 +44,6 @@
 
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/global_descriptors.hpp"
-#include "core/classify/grid_search.hpp"
-#include "core/classify/training.hpp"
 #include "core/common/deadline.hpp"
 #include "core/common/errors.hpp"
 #include "core/io/mesh_io.hpp"
@@ -54,6 +52,8 @@
 #include "core/spherical_map/density_equalizing.hpp"
 #include "core/spherical_map/map_verification.hpp"
 #include "core/spherical_map/spherical_map.hpp"
+#include "core/training/grid_search.hpp"
+#include "core/training/training.hpp"
 #include "core/validation/mesh_report.hpp"
 
 namespace fs = std::filesystem;

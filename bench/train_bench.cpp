@@ -14,11 +14,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/classify/descriptor_table.hpp"
-#include "core/classify/grid_search.hpp"
-#include "core/classify/training.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "core/synth/demo_dataset.hpp"
+#include "core/training/descriptor_table.hpp"
+#include "core/training/grid_search.hpp"
+#include "core/training/training.hpp"
 
 namespace {
 

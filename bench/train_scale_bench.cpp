@@ -37,15 +37,15 @@
 #include <Eigen/Cholesky>
 #include <nlohmann/json.hpp>
 
-#include "core/classify/dataset.hpp"
-#include "core/classify/descriptor_table.hpp"
-#include "core/classify/global_descriptors.hpp"
-#include "core/classify/grid_search.hpp"
-#include "core/classify/search_plan.hpp"
-#include "core/classify/splits.hpp"
 #include "core/classify/feature_pipeline.hpp"
+#include "core/classify/global_descriptors.hpp"
+#include "core/classify/splits.hpp"
 #include "core/classify/standard_scaler.hpp"
-#include "core/classify/training.hpp"
+#include "core/training/dataset.hpp"
+#include "core/training/descriptor_table.hpp"
+#include "core/training/grid_search.hpp"
+#include "core/training/search_plan.hpp"
+#include "core/training/training.hpp"
 
 namespace {
 

@@ -23,11 +23,11 @@
 #include "cli/volume_options.hpp"
 #include "cli/volume_rows.hpp"
 #include "core/classify/classifier_model.hpp"
-#include "core/classify/descriptor_table.hpp"
 #include "core/common/errors.hpp"
 #include "core/pipeline/class_map.hpp"
 #include "core/pipeline/object_table.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "core/training/descriptor_table.hpp"
 #include "wire/volume_result_json.hpp"
 
 namespace wish::cli {

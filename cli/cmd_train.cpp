@@ -14,7 +14,7 @@
 // when a class loses more than --max-class-loss of its meshes (unless --allow-losses). When the global descriptors are available, accuracies with xi alone, global alone and
 // combined are printed side by side.
 // The driver itself (gathering, the descriptor CSV's fallbacks and checks, training, the comparison) is core's
-// run_training (core/pipeline/training_run.hpp); this file maps the options to its request and prints its result.
+// run_training (core/training/training_run.hpp); this file maps the options to its request and prints its result.
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -27,20 +27,20 @@
 #include "cli/command_registry.hpp"
 #include "cli/enum_option.hpp"
 #include "cli/volume_options.hpp"
-#include "core/classify/dataset.hpp"
 #include "core/classify/default_recipe.hpp"
-#include "core/classify/descriptor_table.hpp"
 #include "core/classify/feature_pipeline.hpp"
 #include "core/classify/laplace_spectrum.hpp"
 #include "core/classify/recipe_names.hpp"
-#include "core/classify/grid_search.hpp"
-#include "core/classify/training.hpp"
-#include "core/classify/training_report.hpp"
 #include "core/common/errors.hpp"
-#include "core/pipeline/training_run.hpp"
 #include "core/sh/sh_fit_names.hpp"
 #include "core/sh/sh_lmax_range.hpp"
 #include "core/spherical_map/map_types.hpp"
+#include "core/training/dataset.hpp"
+#include "core/training/descriptor_table.hpp"
+#include "core/training/grid_search.hpp"
+#include "core/training/training.hpp"
+#include "core/training/training_report.hpp"
+#include "core/training/training_run.hpp"
 #include "wire/training_report_json.hpp"
 
 namespace wish::cli {
@@ -172,7 +172,7 @@ CommandRunner setup_train(CLI::App& sub) {
       "instead. A model records its recipe: classify uses it.\n"
       "\n" + training_scale_help(ScalePolicy{}));
   return [o, features_option]() {
-    // Options -> request; the driver (core/pipeline/training_run.hpp) gathers, checks, falls back and trains.
+    // Options -> request; the driver (core/training/training_run.hpp) gathers, checks, falls back and trains.
     TrainingRunRequest request;
     request.input = o->input;
     request.labels = o->labels;

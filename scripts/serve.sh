@@ -4,7 +4,8 @@
 # data/models/README.md).
 #   PORT=8080 WISH_MODELS=data/models bash scripts/serve.sh [extra `wish serve` flags]
 # Only the service is built: the command line tool's own files (cli/, about a quarter of the compile;
-# docs/benchmarks.md, "Third pass") wait for `cmake --build build/release --target wish`.
+# docs/benchmarks.md, "Third pass") and the training library it alone links (core/training/,
+# wire/training_report_json.cpp) wait for `cmake --build build/release --target wish`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 port=${PORT:-8080}

@@ -21,7 +21,7 @@ struct LoadedModel;  // defined in loaded_model.hpp
 const nlohmann::json& model_info(const LoadedModel& model);
 const std::string& model_name(const LoadedModel& model);
 // Where `wish train` writes the model's training report: `<model file stem>-report.json` beside the model file
-// (core/classify/training_report.hpp: grid search, hold-out confusion matrix, per-class scores, losses). It is read
+// (core/training/training_report.hpp: grid search, hold-out confusion matrix, per-class scores, losses). It is read
 // when asked for (GET /v1/models/{name}/report), not at load: a report is not part of the model.
 std::filesystem::path training_report_path(const LoadedModel& model);
 

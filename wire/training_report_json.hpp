@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/classify/dataset.hpp"
 #include "core/classify/feature_pipeline.hpp"
-#include "core/classify/training.hpp"
+#include "core/training/dataset.hpp"
+#include "core/training/training.hpp"
 
 namespace wish::wire {
 

@@ -1,6 +1,6 @@
 #pragma once
-// Internal: what a ClassifierModel consists of. Built by training (training.cpp) or by loading a model file
-// (model_file.cpp); immutable afterwards and shared between copies.
+// Internal: what a ClassifierModel consists of. Built by training (core/training/training.cpp) or by loading a model
+// file (model_file.cpp); immutable afterwards and shared between copies.
 
 #include <optional>
 #include <string>

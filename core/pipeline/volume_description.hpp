@@ -5,7 +5,8 @@
 // object's error. A refused surface becomes an error with the category the code table gives its code
 // (core/common/error_codes.hpp: box_too_large is TooLarge, 413; genus_nonzero Unmappable, 422), the same in every
 // front end. The service (server/compute_service.cpp), the CLI (describe and predict through cli/volume_rows.hpp,
-// mesh-labels) and training (training_set.cpp) render it; wire/volume_result_json.hpp is its one JSON encoder.
+// mesh-labels) and training (core/training/training_set.cpp) render it; wire/volume_result_json.hpp is its one
+// JSON encoder.
 
 #include <cstdint>
 #include <functional>

@@ -9,7 +9,7 @@
 
 #include "core/classify/global_descriptors.hpp"
 #include "core/classify/standard_scaler.hpp"
-#include "core/classify/training.hpp"
+#include "core/training/training.hpp"
 
 namespace wish::testing {
 

@@ -10,9 +10,9 @@
 
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/default_recipe.hpp"
-#include "core/classify/descriptor_table.hpp"
 #include "core/classify/sha256.hpp"
 #include "core/common/errors.hpp"
+#include "core/training/descriptor_table.hpp"
 #include "tests/classify/classify_test_data.hpp"
 #include "tests/testing/test_data.hpp"
 

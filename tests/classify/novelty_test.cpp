@@ -13,8 +13,8 @@
 #include "core/classify/classifier_model.hpp"
 #include "core/classify/novelty.hpp"
 #include "core/classify/splits.hpp"
-#include "core/classify/training.hpp"
 #include "core/common/errors.hpp"
+#include "core/training/training.hpp"
 #include "tests/classify/classify_test_data.hpp"
 
 namespace wish {

@@ -5,8 +5,8 @@
 
 #include "core/classify/standard_scaler.hpp"
 #include "core/classify/svm_engine.hpp"
-#include "core/classify/training.hpp"
 #include "core/common/errors.hpp"
+#include "core/training/training.hpp"
 #include "tests/classify/classify_test_data.hpp"
 
 namespace wish {

@@ -231,7 +231,7 @@ bool exists_in_tree(const std::string& path) {
   }
   if (std::binary_search(files.begin(), files.end(), p) || std::binary_search(files.begin(), files.end(), p + "/"))
     return true;
-  // `core/classify/dataset` or `core/common/thread_policy.*`: the name of a header / source pair.
+  // `core/training/dataset` or `core/common/thread_policy.*`: the name of a header / source pair.
   const auto it = std::lower_bound(files.begin(), files.end(), p + ".");
   return it != files.end() && it->starts_with(p + ".") && it->find('/', p.size()) == std::string::npos;
 }

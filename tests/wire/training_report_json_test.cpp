@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "core/classify/dataset.hpp"
-#include "core/classify/training.hpp"
+#include "core/training/dataset.hpp"
+#include "core/training/training.hpp"
 #include "tests/classify/classify_test_data.hpp"
 #include "wire/training_report_json.hpp"
 
