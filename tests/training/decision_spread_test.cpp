@@ -164,7 +164,9 @@ TEST(GridSearchOffset, NeverChoosesAnOffsetDecidedCellWhileAnotherWasScored) {
         if (std::isnan(r.mean_score(c, k))) continue;
         counted += r.cell_offset_decided(c, k);
         EXPECT_LE(r.narrow_fits(c, k), static_cast<int>(splits.size()));
-        if (!r.cell_offset_decided(c, k)) EXPECT_LE(r.mean_score(c, k), r.best_score);
+        if (!r.cell_offset_decided(c, k)) {
+          EXPECT_LE(r.mean_score(c, k), r.best_score);
+        }
       }
     EXPECT_EQ(counted, r.cells_offset_decided);
   }
