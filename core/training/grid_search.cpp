@@ -119,6 +119,32 @@ CellStats stats_of(const std::vector<double>& scores) {
   return {mean, std::sqrt(var / static_cast<double>(scores.size()))};
 }
 
+// Cell (ci, gi) fitted on every split: its mean and spread of validation accuracy, the fits that hit libsvm's
+// iteration cap, the fits decided by the offset (decision_spread.hpp) and its CPU seconds, stored in r. With a kernel
+// the fits use that precomputed matrix, else libsvm's own RBF on `rows`.
+void score_cell(const PrecomputedKernel* kernel, const SplitMatrices& rows, const std::vector<Split>& splits,
+                const std::vector<int>& y, int ci, int gi, GridSearchResult& r) {
+  const double cell_start = CpuBudget::thread_cpu_seconds();
+  SvmParams params;
+  params.C = r.Cs[ci];
+  params.gamma = r.gammas[gi];
+  params.probability = false;  // accuracy needs votes only; no rand(), so cells run concurrently
+  std::vector<double> scores;
+  int capped = 0, narrow = 0;
+  for (std::size_t s = 0; s < splits.size(); ++s) {
+    const auto fit = fit_split(kernel, rows, splits, s, y, params);
+    capped += fit.iteration_cap_warnings > 0;
+    narrow += fit.decision_spread < kMarginSpread;
+    scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
+  }
+  const CellStats st = stats_of(scores);
+  r.mean_score(ci, gi) = st.mean;
+  r.std_score(ci, gi) = st.std;
+  r.capped_fits(ci, gi) = capped;
+  r.narrow_fits(ci, gi) = narrow;
+  r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
+}
+
 // The search before issue 25, kept as the exhaustive reference (precomputed_kernel and early_stop both off): every
 // cell in parallel, each fit with libsvm's own RBF kernel.
 void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const std::vector<Split>& splits,
@@ -126,26 +152,7 @@ void exhaustive_rbf_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, c
   const int nc = static_cast<int>(r.Cs.size()), ng = static_cast<int>(r.gammas.size());
   const SplitMatrices rows(X, y, splits);
   parallel_for(nc * ng, options.jobs, [&](int cell) {
-    const int ci = cell / ng, gi = cell % ng;
-    const double cell_start = CpuBudget::thread_cpu_seconds();
-    SvmParams params;
-    params.C = r.Cs[ci];
-    params.gamma = r.gammas[gi];
-    params.probability = false;  // accuracy needs votes only; no rand(), so cells run concurrently
-    std::vector<double> scores;
-    int capped = 0, narrow = 0;
-    for (std::size_t s = 0; s < splits.size(); ++s) {
-      const auto fit = fit_split(nullptr, rows, splits, s, y, params);
-      capped += fit.iteration_cap_warnings > 0;
-      narrow += fit.decision_spread < kMarginSpread;
-      scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
-    }
-    const CellStats st = stats_of(scores);
-    r.mean_score(ci, gi) = st.mean;
-    r.std_score(ci, gi) = st.std;
-    r.capped_fits(ci, gi) = capped;
-    r.narrow_fits(ci, gi) = narrow;
-    r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
+    score_cell(nullptr, rows, splits, y, cell / ng, cell % ng, r);
   });
 }
 
@@ -168,27 +175,10 @@ void row_wise_cells(const Eigen::MatrixXd& X, const std::vector<int>& y, const s
         r.mean_score(ci, gi) = r.std_score(ci, gi) = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
-      const double cell_start = CpuBudget::thread_cpu_seconds();
-      SvmParams params;
-      params.C = r.Cs[ci];
-      params.gamma = r.gammas[gi];
-      params.probability = false;
-      std::vector<double> scores;
-      int capped = 0, narrow = 0;
-      for (std::size_t s = 0; s < splits.size(); ++s) {
-        const auto fit = fit_split(kernel ? &*kernel : nullptr, rows, splits, s, y, params);
-        capped += fit.iteration_cap_warnings > 0;
-        narrow += fit.decision_spread < kMarginSpread;
-        scores.push_back(static_cast<double>(fit.correct) / static_cast<double>(splits[s].test.size()));
-      }
-      const CellStats st = stats_of(scores);
-      r.mean_score(ci, gi) = st.mean;
-      r.std_score(ci, gi) = st.std;
-      r.capped_fits(ci, gi) = capped;
-      r.narrow_fits(ci, gi) = narrow;
-      r.cell_cpu_seconds(ci, gi) = CpuBudget::thread_cpu_seconds() - cell_start;
+      score_cell(kernel ? &*kernel : nullptr, rows, splits, y, ci, gi, r);
       if (!options.early_stop) continue;
-      stopped = rule.stop_after(st.mean, offset_decided(narrow, static_cast<int>(splits.size())));
+      stopped = rule.stop_after(r.mean_score(ci, gi),
+                                offset_decided(r.narrow_fits(ci, gi), static_cast<int>(splits.size())));
     }
   });
 }
