@@ -134,6 +134,7 @@ def status_fields(pid):
 
 class Server:
     def __init__(self, wish, models, workers, queue_size, tmp, extra_args=()):
+        self.seen = {}  # {status: count} of the answers the bench's clients have read from this server
         self.log_path = os.path.join(tmp, "server-%d.log" % time.time_ns())
         self.log = open(self.log_path, "wb")
         # `wish serve ...` or the service executable itself (`wish-server ...`: what `wish serve` runs).
@@ -170,6 +171,18 @@ class Server:
                 out[int(m.group(2))] = int(m.group(3))
         return out
 
+    def settled_counts(self, route, seen_by_clients, wait=5.0):
+        """status_counts once they include every answer the clients have read (`seen_by_clients`, {status: count}
+        since the server started). The server counts a request after writing its answer, so a read right after the
+        client's last answer can miss it, and the next level would count it as its own. Past `wait` seconds the last
+        read is returned as it is (a real disagreement then shows as DIFFER)."""
+        deadline = time.time() + wait
+        while True:
+            counts = self.status_counts(route)
+            if all(counts.get(s, 0) >= n for s, n in seen_by_clients.items()) or time.time() > deadline:
+                return counts
+            time.sleep(0.02)
+
     def stop(self):
         self.proc.terminate()
         self.proc.wait(timeout=120)
@@ -197,6 +210,7 @@ def alone(server, route, body, count):
             sys.exit("a request alone failed with %d: %s" % (status, answer[:300]))
     cpu = (server.cpu() - cpu0) / count
     conn.close()
+    server.seen[200] = server.seen.get(200, 0) + count
     return cpu, statistics.median(latencies)
 
 
@@ -264,7 +278,7 @@ def run_level(server, route, body, clients, requests, timeout):
                 break
         conn.close()
 
-    counts0 = server.status_counts(route)
+    counts0 = server.settled_counts(route, server.seen)
     sampler = Sampler(server.proc.pid)
     cpu0, own0 = server.cpu(), os.times()
     t0 = time.perf_counter()
@@ -276,7 +290,9 @@ def run_level(server, route, body, clients, requests, timeout):
     wall = time.perf_counter() - t0
     cpu, own1 = server.cpu() - cpu0, os.times()
     sampler.stop()
-    counts1 = server.status_counts(route)
+    for status, n in state["statuses"].items():
+        server.seen[status] = server.seen.get(status, 0) + n
+    counts1 = server.settled_counts(route, server.seen)
     seen = {s: counts1.get(s, 0) - counts0.get(s, 0) for s in set(counts0) | set(counts1)}
     seen = {s: n for s, n in seen.items() if n}
     expected = {s: n for s, n in state["statuses"].items() if n}
