@@ -8,7 +8,8 @@
 //    most `halving.max_rows` rows, the model then fitted on all training rows.
 //  * nested CV: the paper's repeats x folds at every size, the inner searches on the main search's path; its 95 %
 //    interval is stated (cv_interval.hpp). One repeat above a size was measured and not needed: the whole default
-//    train at 30,000 samples takes 228 CPU s with 2 x 5 against 162 with 1 x 5 (--nested-repeats 1 does it).
+//    train at 30,000 samples took 228 CPU s with 2 x 5 against 162 with 1 x 5 (--nested-repeats 1 does it); with
+//    today's default features 430 CPU s, 259 s wall on 2 cores (docs/benchmarks.md "Training that scales").
 // --search grid / halving forces a path whatever the size.
 
 #include <string>
