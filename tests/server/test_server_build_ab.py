@@ -7,6 +7,7 @@ import subprocess
 import sys
 import unittest
 
+from loopback import free_ports
 from wish_server_harness import SOURCE_DIR, WISH_BIN
 
 SCRIPT = os.path.join(SOURCE_DIR, "bench", "server_build_ab.py")
@@ -24,7 +25,8 @@ def load_script():
 @unittest.skipUnless(os.path.exists(SERVER), "wish-server not found beside %s" % WISH_BIN)
 class ServerBuildAB(unittest.TestCase):
     def test_the_same_build_twice_gives_identical_answers(self):
-        out = subprocess.run([sys.executable, SCRIPT, SERVER, SERVER, MESH, "--rounds", "1", "--ports", "18711", "18712"],
+        ports = [str(p) for p in free_ports(2)]
+        out = subprocess.run([sys.executable, SCRIPT, SERVER, SERVER, MESH, "--rounds", "1", "--ports", *ports],
                              capture_output=True, text=True, timeout=300)
         self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
         self.assertIn("responses without timings identical: yes", out.stdout)
