@@ -11,7 +11,7 @@
 #include "core/io/mesh_io.hpp"
 #include "core/synth/demo_dataset.hpp"
 
-namespace wish::cli {
+namespace wish::cli::demo_data_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 struct DemoDataOptions {
@@ -64,4 +64,4 @@ const bool registered = register_command(
     {"demo-data", "Write the deterministic SYNTHETIC demo set of nucleus-like meshes (six classes)", &setup_demo_data, 80});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::demo_data_command

@@ -32,7 +32,7 @@
 #include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
 
-namespace wish::cli {
+namespace wish::cli::describe_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 using wire::json_number_or_nan;
@@ -239,4 +239,4 @@ const bool registered = register_command(
     {"describe", "Spherical-harmonic descriptor of meshes: map, fit, invariants, fit error, timings", &setup_describe, 30});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::describe_command

@@ -19,7 +19,7 @@
 #include "wire/error_json.hpp"
 #include "wire/wire_json.hpp"
 
-namespace wish::cli {
+namespace wish::cli::inspect_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 using wire::json_number_or_nan;
@@ -114,4 +114,4 @@ const bool registered = register_command(
     {"inspect", "Report the topology and geometry of mesh files and whether they can be mapped to the sphere", &setup_inspect, 10});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::inspect_command

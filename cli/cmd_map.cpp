@@ -26,7 +26,7 @@
 #include "wire/wire_json.hpp"
 #include "core/validation/mesh_report.hpp"
 
-namespace wish::cli {
+namespace wish::cli::map_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 struct MapArgs {
@@ -149,4 +149,4 @@ const bool registered = register_command({"map", "Map of a closed genus-0 mesh o
                                           &setup_map, 20});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::map_command

@@ -28,7 +28,7 @@
 #include "core/pipeline/object_table.hpp"
 #include "core/pipeline/volume_description.hpp"
 
-namespace wish::cli {
+namespace wish::cli::mesh_labels_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 struct MeshLabelsOptions {
@@ -141,4 +141,4 @@ CommandRunner setup(CLI::App& sub) {
 const bool registered = register_command({"mesh-labels", "One closed genus-0 mesh per object of a label volume", &setup, 25});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::mesh_labels_command

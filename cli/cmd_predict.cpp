@@ -30,7 +30,7 @@
 #include "core/training/descriptor_table.hpp"
 #include "wire/volume_result_json.hpp"
 
-namespace wish::cli {
+namespace wish::cli::predict_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 struct PredictOptions {
@@ -271,4 +271,4 @@ const bool registered = register_command(
     {"predict", "Classify meshes with a trained model: label, probabilities, margin", &setup_predict, 60});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::predict_command

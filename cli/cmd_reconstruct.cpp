@@ -16,7 +16,7 @@
 #include "core/sh/sh_reconstruction.hpp"
 #include "wire/wire_json.hpp"
 
-namespace wish::cli {
+namespace wish::cli::reconstruct_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 struct ReconstructOptions {
@@ -63,4 +63,4 @@ const bool registered = register_command(
     {"reconstruct", "Evaluate a descriptor's SH surface on an icosphere and write the mesh", &setup_reconstruct, 40});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::reconstruct_command

@@ -18,7 +18,7 @@
 
 #include "cli/command_registry.hpp"
 
-namespace wish::cli {
+namespace wish::cli::serve_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 std::filesystem::path server_executable() {
@@ -52,4 +52,4 @@ const bool registered = register_command(
      &setup_serve, 70, /*takes_signals=*/true});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::serve_command

@@ -43,7 +43,7 @@
 #include "core/training/training_run.hpp"
 #include "wire/training_report_json.hpp"
 
-namespace wish::cli {
+namespace wish::cli::train_command {  // one namespace per command: the commands compile in one unity batch
 namespace {
 
 const DescriptorRecipe kDefaults = default_training_recipe();
@@ -274,4 +274,4 @@ const bool registered = register_command(
      &setup_train, 50});
 
 }  // namespace
-}  // namespace wish::cli
+}  // namespace wish::cli::train_command
