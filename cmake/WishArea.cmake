@@ -28,6 +28,7 @@ set(WISH_SLOW_TEST_COST 100)
 # The tests of an area, tests/<area>/*_test.cpp, linked against LINK, in as few programs as keep the long tests first:
 #   * a file holding a Slow*/…Sweep test is its own program <area>_<file> with COST WISH_SLOW_TEST_COST (COST is per
 #     program here), so that ctest -j starts its long tests first instead of leaving them to run on alone at the end;
+#     with WISH_SLOW_TESTS off, a file whose every test is Slow*/…Sweep gets no program;
 #   * every other file of the area goes into one program <area>_tests, compiled in unity batches like the libraries:
 #     one GoogleTest main, one link and one test discovery per area instead of per file, and the GoogleTest and Eigen
 #     templates the files share instantiated once per batch (issue 28; docs/benchmarks.md, "Compile time").
@@ -41,7 +42,12 @@ function(wish_add_gtests area)
   set(area_sources "")
   foreach(src ${tests})
     file(STRINGS ${src} slow_tests REGEX "^TEST(_F|_P)?\\((Slow|[A-Za-z]*Sweep)")
-    if(slow_tests)
+    file(STRINGS ${src} all_tests REGEX "^TEST(_F|_P)?\\(")
+    list(LENGTH slow_tests slow_count)
+    list(LENGTH all_tests all_count)
+    if(slow_tests AND slow_count EQUAL all_count AND NOT WISH_SLOW_TESTS)
+      continue()  # only slow tests, and WISH_SLOW_TESTS is off: no program
+    elseif(slow_tests)
       get_filename_component(name ${src} NAME_WE)
       _wish_add_gtest_program(${area}_${name} "${src}" ${WISH_SLOW_TEST_COST} "${area};${ARG_LABELS}" ${ARG_LINK})
     else()
