@@ -8,6 +8,7 @@
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
 #include "core/common/errors.hpp"
+#include "core/volume/link_condition.hpp"
 
 namespace wish::volume {
 namespace {
@@ -20,7 +21,12 @@ struct DoubleTraits : public OpenMesh::DefaultTraits {
   FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
   HalfedgeAttributes(OpenMesh::Attributes::Status);
 };
-using OMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
+// OpenMesh's mesh with the decimater's link condition answered by collapse_keeps_manifold (link_condition.hpp: the
+// same answer, without the assertion-laden library call). BaseDecimaterT::is_collapse_legal calls
+// mesh_.is_collapse_ok on the mesh type it is given, so this one hides the library's.
+struct OMesh : OpenMesh::TriMesh_ArrayKernelT<DoubleTraits> {
+  bool is_collapse_ok(HalfedgeHandle v0v1) const { return collapse_keeps_manifold(*this, v0v1); }
+};
 
 }  // namespace
 

@@ -1,8 +1,9 @@
 #pragma once
 // Decimation of a closed manifold mesh to a target vertex count by quadric-error edge collapses (Garland & Heckbert
-// 1997) with OpenMesh's decimater (Debian's libopenmesh-dev). OpenMesh only performs collapses that pass its link
-// condition, so a closed 2-manifold stays one and the genus does not change; ModNormalFlipping refuses collapses
-// that turn a face by more than `max_normal_deviation_degrees` (no fold-overs).
+// 1997) with OpenMesh's decimater (Debian's libopenmesh-dev). Only collapses that pass the link condition are made
+// (link_condition.hpp: OpenMesh's own test, compiled here), so a closed 2-manifold stays one and the genus does not
+// change; ModNormalFlipping refuses collapses that turn a face by more than `max_normal_deviation_degrees` (no
+// fold-overs).
 
 #include <cstdint>
 
