@@ -32,6 +32,8 @@ set(WISH_PCH_HEADERS
 # precompiled at -O3 stay -O3 in a file compiled at -O1: the glue has its own precompiled header, wish_glue_pch.
 set(WISH_GLUE_OPTIMIZATION "-O1" CACHE STRING "Optimisation of the service's glue code in Release builds")
 set(WISH_GLUE_COMPILE_OPTIONS $<$<CONFIG:Release>:${WISH_GLUE_OPTIMIZATION}>)
+set(WISH_LINK_MAP_DIR ${CMAKE_BINARY_DIR}/link-maps)  # the glue executables' link maps (wish_speed_up)
+file(MAKE_DIRECTORY ${WISH_LINK_MAP_DIR})
 
 if(WISH_PCH)
   file(WRITE ${CMAKE_BINARY_DIR}/wish_pch.cpp "// The translation unit that builds the shared precompiled header.\n")
@@ -60,6 +62,15 @@ function(wish_speed_up target)
   cmake_parse_arguments(ARG "TEST;GLUE" "" "" ${ARGN})
   if(ARG_GLUE)
     target_compile_options(${target} PRIVATE ${WISH_GLUE_COMPILE_OPTIONS})
+    set_property(GLOBAL APPEND PROPERTY WISH_GLUE_TARGETS ${target})
+    # The link map of a glue executable in Release builds (GNU ld): tests/build/check_glue_link_map.py reads it to
+    # show that no numerical template function is taken from the glue's -O1 objects (the linker keeps the first copy
+    # of a template it meets, and the glue's objects come first on the link line).
+    get_target_property(type ${target} TYPE)
+    if(type STREQUAL "EXECUTABLE" AND CMAKE_BUILD_TYPE STREQUAL "Release" AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+      target_link_options(${target} PRIVATE "LINKER:-Map=${WISH_LINK_MAP_DIR}/${target}.map")
+      set_property(GLOBAL APPEND PROPERTY WISH_GLUE_LINK_MAPS ${target})
+    endif()
   endif()
   if(WISH_PCH)
     if(ARG_TEST AND TARGET wish_test_pch)

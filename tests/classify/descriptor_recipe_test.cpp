@@ -154,7 +154,7 @@ TEST(DefaultTrainingRecipe, IsValidCanonicalAndNamedInItsSummary) {
   EXPECT_EQ(recipe_version_of(r), DescriptorRecipe::kVersion);
   EXPECT_TRUE(r.needs_global_features());  // combined: xi and the global descriptors
   const std::string summary = recipe_summary(r);
-  for (const std::string part : {std::string(to_string(r.map.method)), std::string("canonical isometric"),
+  for (const std::string& part : {std::string(to_string(r.map.method)), std::string("canonical isometric"),
                                  "Lmax " + std::to_string(r.sh.lmax), std::string(to_string(r.features.family))})
     EXPECT_NE(summary.find(part), std::string::npos) << summary << " lacks " << part;
 }

@@ -195,7 +195,9 @@ TEST(TopologyRepair, AThinRingIsCutWhereItIsThinnest) {
   EXPECT_LT(r.figures.removed, 30);
   EXPECT_GT(r.figures.fill_every_tunnel, 5 * r.figures.removed);
   for (std::size_t i = 0; i < ring.labels.size(); ++i) {
-    if (ring.labels[i] && !r.result.labels[i]) EXPECT_LT(i % 31, 15u) << "a cut on the thick side";
+    if (ring.labels[i] && !r.result.labels[i]) {
+      EXPECT_LT(i % 31, 15u) << "a cut on the thick side";
+    }
   }
   EXPECT_NE(r.figures.describe().find("cut 1 handle (-"), std::string::npos) << r.figures.describe();
 }

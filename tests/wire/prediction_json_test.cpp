@@ -18,7 +18,13 @@ Prediction base() {
 
 TEST(PredictionJson, NovelBesideTheLabelWithItsFigures) {
   Prediction p = base();
-  p.novelty = NoveltyAssessment{3.5, 0.01, 2.0, 0.99, true};
+  NoveltyAssessment novel;
+  novel.score = 3.5;
+  novel.p_value = 0.01;
+  novel.threshold = 2.0;
+  novel.quantile = 0.99;
+  novel.novel = true;
+  p.novelty = novel;
   const nlohmann::json j = wire::prediction_json(p, "m", "1");
   EXPECT_EQ(j["label"], "neuron");  // the label stays
   EXPECT_EQ(j["novel"], true);
