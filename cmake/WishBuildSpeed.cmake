@@ -63,7 +63,7 @@ function(wish_speed_up target)
   if(ARG_GLUE)
     target_compile_options(${target} PRIVATE ${WISH_GLUE_COMPILE_OPTIONS})
     set_property(GLOBAL APPEND PROPERTY WISH_GLUE_TARGETS ${target})
-    # The link map of a glue executable in Release builds (GNU ld): tests/build/check_glue_link_map.py reads it to
+    # The link map of a glue executable in Release builds (GNU ld): tests/cmake/check_glue_link_map.py reads it to
     # show that no numerical template function is taken from the glue's -O1 objects (the linker keeps the first copy
     # of a template it meets, and the glue's objects come first on the link line).
     get_target_property(type ${target} TYPE)
