@@ -22,9 +22,9 @@ import re
 import sys
 
 # A section name, then (on the same line, or the next when the name is long) address, size and the input object.
-SECTION = re.compile(r"^ (\.text\.\S+)\s+(?:0x[0-9a-f]+\s+0x([0-9a-f]+)\s+)(\S+)$", re.M)
+SECTION = re.compile(r"^ (\.text\.\S+)\s+0x[0-9a-f]+\s+0x[0-9a-f]+\s+(\S+)$", re.M)
 # The numerical template code that must keep the numerical libraries' -O3 copies.
-NUMERICAL_TEMPLATES = re.compile(r"N?5Eigen")
+NUMERICAL_TEMPLATES = re.compile(r"5Eigen")
 
 
 def object_target(path):
@@ -41,7 +41,7 @@ def sections(text):
     """{section name: [input object, ...]} of one part of a map file."""
     out = collections.defaultdict(list)
     for m in SECTION.finditer(text):
-        out[m.group(1)].append(m.group(3))
+        out[m.group(1)].append(m.group(2))
     return out
 
 
@@ -52,6 +52,11 @@ def glue_copies(map_text, glue):
     if split < 0 or "Discarded input sections" not in map_text:
         raise ValueError("not a GNU ld link map (no 'Discarded input sections' / 'Linker script and memory map')")
     discarded, kept = sections(map_text[:split]), sections(map_text[split:])
+    # A map this parser cannot read must not pass as "nothing found": every C++ executable here keeps code sections
+    # and discards duplicate template copies.
+    if not kept or not discarded:
+        raise ValueError("no code sections parsed (kept %d, discarded %d): has the map's format changed?"
+                         % (len(kept), len(discarded)))
     found = []
     for name, objects in kept.items():
         kept_from = objects[0]
